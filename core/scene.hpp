@@ -1,0 +1,170 @@
+#pragma once
+// The scene description: what a YAML scene file says, after parsing and validation
+// (drivers/scene_parser.cpp), in SI units. Plain host data; the engine builds its device state from it.
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace cgdem {
+
+using Vec3d = std::array<double, 3>;
+
+struct DomainSpec {
+  Vec3d lo{0, 0, 0};
+  Vec3d hi{1, 1, 1};
+  std::array<bool, 3> periodic{false, false, false};
+};
+
+struct MaterialSpec {
+  std::string name;
+  double density = 0;          // kg/m^3 (required for particle materials)
+  double youngs_modulus = 0;   // Pa
+  double poisson_ratio = 0.3;
+  double restitution = 1;      // (0, 1]
+  double friction = 0;         // sliding
+  double rolling_friction = 0;
+  double surface_energy = 0;   // J/m^2 (JKR, DMT)
+  double eepa_k1 = 0, eepa_k2 = 0, eepa_k_adh = 0, eepa_f0 = 0;  // linear EEPA (N/m, N)
+  double spring_normal = 0, spring_tangential = 0;                // linear spring-dashpot (N/m)
+  double surface_tension = 0;  // N/m (capillary)
+  double contact_angle = 0;    // degrees in YAML, radians here
+  double liquid_fraction = 0;  // V_liq = fraction * (V_i + V_j)
+  double liquid_volume = 0;    // m^3 per bridge, overrides liquid_fraction when > 0
+  double min_separation = 1e-6;
+};
+
+// Which compiled law a scene uses, component by component (models/contact_law.hpp).
+struct ContactSpec {
+  std::string normal = "hertz";         // hertz | linear | jkr | eepa
+  std::string adhesion = "none";        // none | dmt | jkr_simplified | capillary
+  std::string tangential = "mindlin";   // mindlin | none
+  std::string rolling = "none";         // none | constant_torque | spring_dashpot
+  bool wall_adhesion = true;            // false: particle-wall pairs get no surface energy / liquid
+};
+
+// Overrides for one material pair (values < 0 mean "mixed from the two materials").
+struct PairOverrideSpec {
+  std::string material_a, material_b;
+  double restitution = -1, friction = -1, rolling_friction = -1, surface_energy = -1;
+};
+
+struct CoarseGrainSpec {
+  std::string law = "none";  // none | chen_elliott | bond | cohesion | thakur | hu_method1 | hu_method2 | hu_method3 | sakai
+  double factor = 1;
+};
+
+struct SizeSpec {
+  std::string distribution = "mono";  // mono | uniform | normal | lognormal
+  double radius = 0;                  // mono
+  double min_radius = 0, max_radius = 0;  // uniform, and truncation for normal/lognormal
+  double mean_radius = 0, std_radius = 0; // normal, lognormal
+};
+
+struct PlacementSpec {
+  std::string kind = "lattice";  // lattice | random_box | random_cylinder | file
+  Vec3d lo{0, 0, 0}, hi{0, 0, 0};        // box (lattice, random_box)
+  Vec3d center{0, 0, 0};                 // cylinder base centre (axis along z)
+  double cylinder_radius = 0, cylinder_height = 0;
+  double spacing = 0;                    // lattice spacing (default: largest diameter * 1.05)
+  std::uint64_t seed = 1;
+  std::string file;                      // CSV (id,x,y,z,radius[,density]) or HDF5 (a cgdem frame)
+};
+
+struct GroupSpec {
+  std::string name;
+  std::string material;
+  long count = 0;            // particles to place (file placement: all in the file when 0)
+  SizeSpec size;             // of the ORIGINAL particles
+  PlacementSpec placement;
+  Vec3d velocity{0, 0, 0};
+  double velocity_random = 0;  // magnitude of random-direction velocity added (Hu periodic box)
+  CoarseGrainSpec coarse_grain;
+};
+
+struct WallSpec {
+  std::string name;
+  std::string type = "plane";  // plane | cylinder
+  std::string material;
+  Vec3d point{0, 0, 0};        // plane: a point on it; cylinder: centre of its base
+  Vec3d normal{0, 0, 1};       // plane: unit normal pointing into the particles
+  Vec3d axis{0, 0, 1};         // cylinder axis (unit)
+  double radius = 0, length = 0;
+  bool caps = false;           // cylinder end caps
+  // Motion: translation velocity and rotation rate about the axis (rad/s), active in [start, stop).
+  Vec3d velocity{0, 0, 0};
+  double angular_velocity = 0;
+  double motion_start = 0, motion_stop = 1e300;
+};
+
+struct TimeSpec {
+  double end = 0;
+  double step = 0;            // 0 = auto
+  double fraction = 0.2;      // of the estimated stable step when auto
+  bool force_step = false;    // allow a given step above the stable estimate
+};
+
+struct OutputSpec {
+  double every = 0;           // simulated time between frames (0: only first and last)
+  std::vector<std::string> fields{"position", "velocity", "angular_velocity", "radius", "mass", "group", "id"};
+  std::string file = "results.h5";
+};
+
+struct StopSpec {
+  double kinetic_energy_below = -1;  // stop when translational KE < this (J) after min_time
+  double min_time = 0;
+};
+
+struct NeighbourSpec {
+  double skin = -1;          // absolute (m); < 0: skin_fraction * largest diameter
+  double skin_fraction = 0.2;
+  int reorder_every = 1;     // spatial reorder every N list builds (0: never)
+};
+
+struct AnalysisSpec {
+  std::string name;
+  std::string type;
+  std::map<std::string, std::string> params;
+};
+
+struct StabilitySpec {
+  double max_overlap_fraction = 0.5; // overlap above this fraction of the smaller radius is a blow-up
+  bool relax_initial_overlaps = false;
+  double overlap_tolerance = 0.01;   // initial overlap allowed, as a fraction of the smaller radius
+};
+
+struct Scene {
+  std::string source_file;   // for error messages
+  std::string resolved_yaml; // the scene after --set overrides (stored in the HDF5 root)
+  DomainSpec domain;
+  Vec3d gravity{0, 0, -9.81};
+  std::vector<MaterialSpec> materials;
+  ContactSpec contact;
+  std::vector<PairOverrideSpec> pair_overrides;
+  std::vector<GroupSpec> groups;
+  std::vector<WallSpec> walls;
+  TimeSpec time;
+  OutputSpec output;
+  StopSpec stop;
+  NeighbourSpec neighbour;
+  StabilitySpec stability;
+  std::vector<AnalysisSpec> analyses;
+
+  int material_index(const std::string& name) const {
+    for (size_t i = 0; i < materials.size(); ++i)
+      if (materials[i].name == name) return static_cast<int>(i);
+    return -1;
+  }
+};
+
+// Initial particles on the host, produced by drivers/particle_generation.cpp (or a restart).
+struct ParticleSet {
+  std::vector<std::int64_t> id;
+  std::vector<Vec3d> position, velocity, angular_velocity;
+  std::vector<double> radius, density;
+  std::vector<int> material, group;
+  std::size_t size() const { return id.size(); }
+};
+
+} // namespace cgdem

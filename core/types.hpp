@@ -1,0 +1,36 @@
+#pragma once
+// Basic value types usable on host and device: Real and a small Vec3.
+#include <Kokkos_Core.hpp>
+#include "core/math.hpp"
+
+namespace cgdem {
+
+using Real = double;
+
+struct Vec3 {
+  Real x = 0, y = 0, z = 0;
+
+  KOKKOS_INLINE_FUNCTION Vec3() = default;
+  KOKKOS_INLINE_FUNCTION constexpr Vec3(Real x_, Real y_, Real z_) : x(x_), y(y_), z(z_) {}
+
+  KOKKOS_INLINE_FUNCTION Real& operator[](int d) { return d == 0 ? x : (d == 1 ? y : z); }
+  KOKKOS_INLINE_FUNCTION Real operator[](int d) const { return d == 0 ? x : (d == 1 ? y : z); }
+
+  KOKKOS_INLINE_FUNCTION Vec3& operator+=(const Vec3& o) { x += o.x; y += o.y; z += o.z; return *this; }
+  KOKKOS_INLINE_FUNCTION Vec3& operator-=(const Vec3& o) { x -= o.x; y -= o.y; z -= o.z; return *this; }
+  KOKKOS_INLINE_FUNCTION Vec3& operator*=(Real s) { x *= s; y *= s; z *= s; return *this; }
+};
+
+KOKKOS_INLINE_FUNCTION Vec3 operator+(const Vec3& a, const Vec3& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+KOKKOS_INLINE_FUNCTION Vec3 operator-(const Vec3& a, const Vec3& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+KOKKOS_INLINE_FUNCTION Vec3 operator-(const Vec3& a) { return {-a.x, -a.y, -a.z}; }
+KOKKOS_INLINE_FUNCTION Vec3 operator*(Real s, const Vec3& a) { return {s * a.x, s * a.y, s * a.z}; }
+KOKKOS_INLINE_FUNCTION Vec3 operator*(const Vec3& a, Real s) { return {s * a.x, s * a.y, s * a.z}; }
+KOKKOS_INLINE_FUNCTION Real dot(const Vec3& a, const Vec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+KOKKOS_INLINE_FUNCTION Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+KOKKOS_INLINE_FUNCTION Real norm2(const Vec3& a) { return dot(a, a); }
+KOKKOS_INLINE_FUNCTION Real norm(const Vec3& a) { return math::sqrt(dot(a, a)); }
+
+} // namespace cgdem

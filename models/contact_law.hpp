@@ -1,0 +1,100 @@
+#pragma once
+// A contact law is composed at compile time from four components, one per axis:
+//   Normal      -> NormalResult from the overlap (HertzTsuji, LinearSpringDashpot, JkrFull, LinearEepa)
+//   Adhesion    -> an attractive normal force added to the normal law's (NoAdhesion, Dmt, JkrSimplified, CapillaryBridge)
+//   Tangential  -> tangential force from its own spring history (NoFriction, MindlinTangential)
+//   Rolling     -> a resisting torque (NoRolling, RollingConstantTorque, RollingSpringDashpot)
+// Each component declares `static constexpr int history_size` (Reals per contact it keeps), a host-side
+// `static Real interaction_range(const PairParameters&, Real R_i, Real R_j)` (how far beyond touching it
+// may still act; the neighbour cut-off follows the longest), and a const device call operator.
+// A component with history_size 0 stores nothing; ContactLaw::history_size is the sum.
+#include "models/contact_state.hpp"
+#include "models/pair_parameters.hpp"
+
+namespace cgdem::models {
+
+// ---------------------------------------------------------------------------------------------------
+// Empty components: compile away.
+struct NoAdhesion {
+  static constexpr int history_size = 0;
+  static constexpr const char* name = "none";
+  static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
+  // Returns the attractive force (>= 0, pulling i toward j); may raise nr.friction_load.
+  KOKKOS_INLINE_FUNCTION Real operator()(const PairParameters&, const PairState&, NormalResult&, Real*) const {
+    return 0;
+  }
+};
+
+struct NoFriction {
+  static constexpr int history_size = 0;
+  static constexpr const char* name = "none";
+  KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters&, const PairState&, const NormalResult&, Real*) const {
+    return Vec3{};
+  }
+};
+
+struct NoRolling {
+  static constexpr int history_size = 0;
+  static constexpr const char* name = "none";
+  KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters&, const PairState&, const NormalResult&, Real*) const {
+    return Vec3{};
+  }
+};
+
+// Damping factor from a restitution coefficient (physics.md): beta = ln e / sqrt(ln^2 e + pi^2).
+inline Real damping_beta(Real restitution) {
+  if (restitution >= 1) return 0;
+  const Real l = std::log(restitution);
+  return l / std::sqrt(l * l + math::pi * math::pi);
+}
+
+// ---------------------------------------------------------------------------------------------------
+template <class Normal, class Adhesion = NoAdhesion, class Tangential = NoFriction, class Rolling = NoRolling>
+struct ContactLaw {
+  using normal_type = Normal;
+  using adhesion_type = Adhesion;
+  using tangential_type = Tangential;
+  using rolling_type = Rolling;
+
+  static constexpr int normal_offset = 0;
+  static constexpr int adhesion_offset = normal_offset + Normal::history_size;
+  static constexpr int tangential_offset = adhesion_offset + Adhesion::history_size;
+  static constexpr int rolling_offset = tangential_offset + Tangential::history_size;
+  static constexpr int history_size = rolling_offset + Rolling::history_size;
+
+  Normal normal;
+  Adhesion adhesion;
+  Tangential tangential;
+  Rolling rolling;
+
+  static Real interaction_range(const PairParameters& p, Real R_i, Real R_j) {
+    const Real a = Normal::interaction_range(p, R_i, R_j);
+    const Real b = Adhesion::interaction_range(p, R_i, R_j);
+    return a > b ? a : b;
+  }
+
+  // Force and torque on i. `history` points at history_size Reals owned by this (i, j) slot; a law
+  // that finds the pair inactive leaves its history zeroed so a later contact starts fresh.
+  KOKKOS_INLINE_FUNCTION ContactForce operator()(const PairParameters& p, const PairState& s, Real* history) const {
+    NormalResult nr = normal(p, s, history + normal_offset);
+    const Real attraction = adhesion(p, s, nr, history + adhesion_offset);
+    ContactForce out;
+    if (!nr.active) {
+      // Tangential and rolling springs only live while the pair touches; a liquid bridge may still pull.
+      for (int k = tangential_offset; k < history_size; ++k) history[k] = 0;
+      out.force = attraction * s.normal;
+      out.active = attraction > 0;
+      return out;
+    }
+    out.active = true;
+    const Vec3 ft = tangential(p, s, nr, history + tangential_offset);
+    const Vec3 rolling_torque = rolling(p, s, nr, history + rolling_offset);
+    out.force = (attraction - nr.force) * s.normal + ft;
+    // Lever arm from i's centre to the contact point: (R_i - overlap/2) n.
+    const Real lever = s.radius_i - 0.5 * (s.overlap > 0 ? s.overlap : 0);
+    out.torque = cross(lever * s.normal, ft) + rolling_torque;
+    return out;
+  }
+};
+
+} // namespace cgdem::models

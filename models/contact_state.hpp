@@ -1,0 +1,45 @@
+#pragma once
+// What a contact law sees of one pair, and what it returns. Built by kernels/pair_forces.hpp and
+// kernels/wall_forces.hpp; a wall is a partner with infinite radius and mass (R_eff = R_i, m_eff = m_i).
+//
+// Conventions (physics.md): n is the unit normal from i to j; overlap > 0 in contact, < 0 is a gap;
+// overlap_rate > 0 while approaching; forces are returned as the force ON i.
+// The state of (j, i) is the exact negative of (i, j) in every vector, so that forces come out as
+// exact negatives and momentum is conserved to round-off.
+#include "core/types.hpp"
+
+namespace cgdem::models {
+
+struct PairState {
+  Real overlap = 0;       // R_i + R_j - |x_j - x_i|
+  Real overlap_rate = 0;  // (v_i - v_j) . n
+  Vec3 normal;            // unit, i -> j
+  Vec3 tangential_velocity;  // tangential part of the velocity of i's surface relative to j's at the contact point
+  Vec3 relative_rotation;    // omega_i - omega_j
+  Vec3 omega_i;              // i's own angular velocity (constant directional torque rolling)
+  Real radius_i = 0;
+  Real radius_j = 0;         // 0 for a wall
+  Real radius_eff = 0;       // R*
+  Real mass_eff = 0;         // m*
+  Real volume_i = 0;         // particle volumes (liquid bridge volume)
+  Real volume_j = 0;
+  Real dt = 0;
+};
+
+struct ContactForce {
+  Vec3 force;         // total force on i
+  Vec3 torque;        // torque on i about its centre, lever arm included
+  bool active = false; // counts as a contact (touching, or bonded across a gap)
+};
+
+// Output of a normal law, consumed by the tangential, adhesion and rolling components.
+struct NormalResult {
+  Real force = 0;          // along -n on i (repulsive > 0), elastic + damping
+  Real friction_load = 0;  // the load the Coulomb limit uses, >= 0
+  Real k_t = 0;            // tangential stiffness for this step
+  Real c_t = 0;            // tangential damping coefficient
+  Real stiffness = 0;      // current normal stiffness (rolling spring uses it)
+  bool active = false;
+};
+
+} // namespace cgdem::models

@@ -1,0 +1,38 @@
+#pragma once
+// Mixed parameters of one material pair (particle-particle or particle-wall), precomputed on the host
+// (core/materials.cpp) into an ntypes x ntypes table. Every contact component reads what it needs from
+// here; a component whose parameters are zero contributes nothing (e.g. gamma = 0 switches adhesion off
+// for one pair while the scene's law keeps it for others).
+#include "core/types.hpp"
+
+namespace cgdem::models {
+
+struct PairParameters {
+  // Elastic, from the two materials (physics.md: E*, G*).
+  Real E_eff = 0;
+  Real G_eff = 0;
+  // Damping factor from restitution: beta = ln(e)/sqrt(ln(e)^2 + pi^2) <= 0.
+  Real restitution = 1;
+  Real beta = 0;
+  // Friction.
+  Real mu_slide = 0;
+  Real mu_roll = 0;
+  // Linear spring-dashpot stiffnesses (Cundall-Strack); k_t = 2/7 k_n when not given.
+  Real k_n = 0;
+  Real k_t = 0;
+  // Adhesion: surface energy gamma as it enters the JKR formulas.
+  Real surface_energy = 0;
+  // Linear EEPA (Thakur): loading, unloading and adhesive stiffness, pull-off force f0 <= 0.
+  Real eepa_k1 = 0;
+  Real eepa_k2 = 0;
+  Real eepa_k_adh = 0;
+  Real eepa_f0 = 0;
+  // Capillary bridge (Rabinovich-Lambert).
+  Real surface_tension = 0;
+  Real contact_angle = 0;      // radians
+  Real liquid_volume = 0;      // per bridge if > 0 ...
+  Real liquid_fraction = 0;    // ... else V_liq = liquid_fraction * (V_i + V_j) (Hu eq 42: 0.083 * 0.05)
+  Real min_separation = 0;     // S_min
+};
+
+} // namespace cgdem::models
