@@ -81,6 +81,7 @@ struct GroupSpec {
   Vec3d velocity{0, 0, 0};
   double velocity_random = 0;  // magnitude of random-direction velocity added (Hu periodic box)
   CoarseGrainSpec coarse_grain;
+  std::string source_location; // "file:line" of the group in the scene (for error messages)
 };
 
 struct WallSpec {

@@ -1,0 +1,31 @@
+#pragma once
+// Everything the engine needs to start, resolved on the host from a Scene (drivers/engine_setup.cpp):
+// particles with masses, the mixed pair-parameter tables, wall parts, the time step and neighbour skin.
+#include <string>
+#include <vector>
+#include "core/domain.hpp"
+#include "core/scene.hpp"
+#include "core/wall.hpp"
+#include "models/pair_parameters.hpp"
+
+namespace cgdem {
+
+struct EngineConfig {
+  ParticleSet particles;
+  std::vector<double> scale_factor;               // per particle (coarse-graining factor of its group)
+  int num_materials = 0;
+  std::vector<models::PairParameters> pair_params; // num_materials^2, row-major, symmetric
+  std::vector<models::PairParameters> wall_params; // particle material x wall material
+  std::vector<Wall> walls;                        // wall parts (cylinder caps expanded)
+  std::vector<std::string> wall_names;            // named walls; Wall::owner indexes this
+  Domain domain;
+  Vec3 gravity;
+  double dt = 0;
+  double skin = 0;
+  double reach = 0;              // longest interaction range beyond touching (adhesion, bridges)
+  int reorder_every = 1;         // spatial reorder every N list builds (0: never)
+  double max_overlap_fraction = 0.5;
+  ContactSpec contact;
+};
+
+} // namespace cgdem

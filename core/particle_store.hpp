@@ -1,0 +1,71 @@
+#pragma once
+// Structure-of-arrays particle store: one Kokkos View per field, in the execution space's memory.
+// Everything per particle lives here so that a spatial reorder can permute all of it in one place
+// (kernels/reorder.hpp); contact history lives with the neighbour list.
+#include <Kokkos_Core.hpp>
+#include <cstdint>
+#include "core/types.hpp"
+
+namespace cgdem {
+
+template <class MemorySpace>
+struct ParticleStore {
+  template <class T>
+  using View = Kokkos::View<T, MemorySpace>;
+
+  View<std::int64_t*> id;            // stable identity across reorders (output, checkpoints, history)
+  View<Real* [3]> position;
+  View<Real* [3]> velocity;
+  View<Real* [3]> angular_velocity;
+  View<Real* [3]> force;
+  View<Real* [3]> torque;
+  View<Real* [3]> position_at_build; // where each particle was at the last neighbour-list build
+  View<Real*> radius;
+  View<Real*> mass;
+  View<Real*> inertia;               // moment of inertia of a solid sphere, 2/5 m R^2
+  View<Real*> scale_factor;          // coarse-graining factor k of the particle's group (1: original)
+  View<int*> material;
+  View<int*> group;
+  View<int*> contacts;               // active particle-particle contacts at the last force evaluation
+  View<int*> wall_contacts;          // active wall contacts at the last force evaluation
+
+  int size() const { return static_cast<int>(id.extent(0)); }
+
+  explicit ParticleStore(int n = 0) { allocate(n); }
+
+  void allocate(int n) {
+    id = View<std::int64_t*>("cgdem::core::id", n);
+    position = View<Real* [3]>("cgdem::core::position", n);
+    velocity = View<Real* [3]>("cgdem::core::velocity", n);
+    angular_velocity = View<Real* [3]>("cgdem::core::angular_velocity", n);
+    force = View<Real* [3]>("cgdem::core::force", n);
+    torque = View<Real* [3]>("cgdem::core::torque", n);
+    position_at_build = View<Real* [3]>("cgdem::core::position_at_build", n);
+    radius = View<Real*>("cgdem::core::radius", n);
+    mass = View<Real*>("cgdem::core::mass", n);
+    inertia = View<Real*>("cgdem::core::inertia", n);
+    scale_factor = View<Real*>("cgdem::core::scale_factor", n);
+    material = View<int*>("cgdem::core::material", n);
+    group = View<int*>("cgdem::core::group", n);
+    contacts = View<int*>("cgdem::core::contacts", n);
+    wall_contacts = View<int*>("cgdem::core::wall_contacts", n);
+  }
+
+  // Bytes per particle held by the store (for the memory estimate and benchmarks).
+  static constexpr std::size_t bytes_per_particle() {
+    return sizeof(std::int64_t) + 7 * 3 * sizeof(Real) + 4 * sizeof(Real) + 5 * sizeof(int);
+  }
+};
+
+template <class View>
+KOKKOS_INLINE_FUNCTION Vec3 load3(const View& v, int i) {
+  return Vec3{v(i, 0), v(i, 1), v(i, 2)};
+}
+template <class View>
+KOKKOS_INLINE_FUNCTION void store3(const View& v, int i, const Vec3& a) {
+  v(i, 0) = a.x;
+  v(i, 1) = a.y;
+  v(i, 2) = a.z;
+}
+
+} // namespace cgdem

@@ -1,0 +1,65 @@
+#include "drivers/engine_setup.hpp"
+#include <algorithm>
+#include <cmath>
+#include "core/materials.hpp"
+
+namespace cgdem {
+
+namespace {
+Vec3 to_vec(const Vec3d& v) { return Vec3{v[0], v[1], v[2]}; }
+Vec3 unit(const Vec3d& v) {
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  return Vec3{v[0] / n, v[1] / n, v[2] / n};
+}
+} // namespace
+
+EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles, const TimeStepEstimate& dt) {
+  EngineConfig c;
+  c.particles = particles;
+  c.scale_factor.resize(particles.size(), 1.0);
+  for (std::size_t i = 0; i < particles.size(); ++i) c.scale_factor[i] = scene.groups[particles.group[i]].coarse_grain.factor;
+  c.num_materials = static_cast<int>(scene.materials.size());
+  c.pair_params = pair_table(scene, false);
+  c.wall_params = pair_table(scene, true);
+  c.domain = Domain(to_vec(scene.domain.lo), to_vec(scene.domain.hi), scene.domain.periodic[0],
+                    scene.domain.periodic[1], scene.domain.periodic[2]);
+  c.gravity = to_vec(scene.gravity);
+  c.dt = dt.step;
+  double rmax = 0;
+  for (double r : particles.radius) rmax = std::max(rmax, r);
+  c.skin = scene.neighbour.skin >= 0 ? scene.neighbour.skin : scene.neighbour.skin_fraction * 2 * rmax;
+  c.reorder_every = scene.neighbour.reorder_every;
+  c.max_overlap_fraction = scene.stability.max_overlap_fraction;
+  c.contact = scene.contact;
+  for (std::size_t w = 0; w < scene.walls.size(); ++w) {
+    const WallSpec& s = scene.walls[w];
+    c.wall_names.push_back(s.name);
+    Wall wall;
+    wall.type = s.type == "cylinder" ? Wall::Cylinder : Wall::Plane;
+    wall.material = std::max(0, scene.material_index(s.material));
+    wall.owner = static_cast<int>(w);
+    wall.point = to_vec(s.point);
+    wall.axis = wall.type == Wall::Cylinder ? unit(s.axis) : unit(s.normal);
+    wall.radius = s.radius;
+    wall.length = s.length;
+    wall.velocity = to_vec(s.velocity);
+    wall.angular_velocity = s.angular_velocity;
+    wall.motion_start = s.motion_start;
+    wall.motion_stop = s.motion_stop;
+    c.walls.push_back(wall);
+    if (wall.type == Wall::Cylinder && s.caps) {
+      // End caps: disks at both ends facing inward, moving with the cylinder.
+      Wall bottom = wall;
+      bottom.type = Wall::Plane;
+      bottom.length = 0;
+      Wall top = bottom;
+      top.point = wall.point + wall.length * wall.axis;
+      top.axis = -wall.axis;
+      c.walls.push_back(bottom);
+      c.walls.push_back(top);
+    }
+  }
+  return c;
+}
+
+} // namespace cgdem

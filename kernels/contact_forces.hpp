@@ -1,0 +1,140 @@
+#pragma once
+// Pair and wall force accumulation in one pass per particle: particle i walks its own neighbour slots
+// and the walls and sums its force and torque in a fixed order. With the full neighbour list nothing
+// is scattered, so no atomics and bitwise the same result on any backend and thread count.
+//
+// The (i, j) and (j, i) evaluations see exactly negated geometry (core/domain.hpp, models/contact_state.hpp)
+// so the two forces are exact negatives and momentum is conserved to round-off.
+#include <Kokkos_Core.hpp>
+#include "core/domain.hpp"
+#include "core/particle_store.hpp"
+#include "core/wall.hpp"
+#include "models/contact_law.hpp"
+
+namespace cgdem::kernels {
+
+template <class ExecSpace, class Law>
+struct ContactForces {
+  using Mem = typename ExecSpace::memory_space;
+  using ParamTable = Kokkos::View<models::PairParameters**, Mem>;
+  static constexpr int H = Law::history_size;
+
+  // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
+  // the force each particle feels from each wall part is stored there too (for the wall reductions).
+  template <class NeighborListT>
+  static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
+                      const ParamTable& pair_params, const ParamTable& wall_params,
+                      const Kokkos::View<Wall*, Mem>& walls,
+                      const Kokkos::View<Real**, Kokkos::LayoutRight, Mem>& wall_history,
+                      const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach, Law law,
+                      int n) {
+    const int nwalls = static_cast<int>(walls.extent(0));
+    const bool record_wall_force = wall_force.extent(0) > 0;
+    const auto offsets = nl.offsets;
+    const auto neighbors = nl.neighbors;
+    const auto history = nl.history;
+    Kokkos::parallel_for(
+        "cgdem::kernels::contact_forces", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          const Vec3 xi = load3(p.position, i);
+          const Vec3 vi = load3(p.velocity, i);
+          const Vec3 wi = load3(p.angular_velocity, i);
+          const Real ri = p.radius(i);
+          const Real mi = p.mass(i);
+          const int mat_i = p.material(i);
+          const Real vol_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
+          Vec3 f, t;
+          int contacts = 0, wall_contacts = 0;
+          Real h[H > 0 ? H : 1];
+
+          for (int s = offsets(i); s < offsets(i + 1); ++s) {
+            const int j = neighbors(s);
+            const Real rj = p.radius(j);
+            const Vec3 d = domain.minimum_image(load3(p.position, j) - xi);
+            const Real dist2 = norm2(d);
+            const Real touch = ri + rj;
+            const Real reach_ij = touch + reach;
+            if (dist2 >= reach_ij * reach_ij || dist2 == 0) {
+              // Out of reach of every interaction: the pair's history (if any) starts over.
+              if constexpr (H > 0)
+                for (int k = 0; k < H; ++k) history(s, k) = 0;
+              continue;
+            }
+            const Real dist = math::sqrt(dist2);
+            models::PairState st;
+            st.normal = (1.0 / dist) * d;
+            st.overlap = touch - dist;
+            const Vec3 vj = load3(p.velocity, j);
+            const Vec3 wj = load3(p.angular_velocity, j);
+            // Contact point velocities: lever arms (R - overlap/2) along +n for i and -n for j.
+            const Real half = 0.5 * (st.overlap > 0 ? st.overlap : 0);
+            const Vec3 vci = vi + cross(wi, (ri - half) * st.normal);
+            const Vec3 vcj = vj + cross(wj, (-(rj - half)) * st.normal);
+            const Vec3 vrel = vci - vcj;
+            st.overlap_rate = dot(vi - vj, st.normal);
+            st.tangential_velocity = vrel - dot(vrel, st.normal) * st.normal;
+            st.relative_rotation = wi - wj;
+            st.omega_i = wi;
+            st.radius_i = ri;
+            st.radius_j = rj;
+            st.radius_eff = ri * rj / (ri + rj);
+            const Real mj = p.mass(j);
+            st.mass_eff = mi * mj / (mi + mj);
+            st.volume_i = vol_i;
+            st.volume_j = (4.0 / 3.0) * math::pi * rj * rj * rj;
+            st.dt = dt;
+            if constexpr (H > 0)
+              for (int k = 0; k < H; ++k) h[k] = history(s, k);
+            const models::ContactForce cf = law(pair_params(mat_i, p.material(j)), st, h);
+            if constexpr (H > 0)
+              for (int k = 0; k < H; ++k) history(s, k) = h[k];
+            f += cf.force;
+            t += cf.torque;
+            contacts += cf.active ? 1 : 0;
+          }
+
+          for (int w = 0; w < nwalls; ++w) {
+            const Wall wall = walls(w);
+            const WallContact wc = wall_contact(wall, time, xi, ri);
+            Vec3 fw;
+            if (!wc.reachable || wc.overlap <= -reach) {
+              if constexpr (H > 0)
+                for (int k = 0; k < H; ++k) wall_history(i, w * H + k) = 0;
+            } else {
+              models::PairState st;
+              st.normal = wc.normal;
+              st.overlap = wc.overlap;
+              const Real half = 0.5 * (wc.overlap > 0 ? wc.overlap : 0);
+              const Vec3 vci = vi + cross(wi, (ri - half) * wc.normal);
+              const Vec3 vrel = vci - wc.surface_velocity;
+              st.overlap_rate = dot(vi - wc.surface_velocity, wc.normal);
+              st.tangential_velocity = vrel - dot(vrel, wc.normal) * wc.normal;
+              st.relative_rotation = wi;
+              st.omega_i = wi;
+              st.radius_i = ri;
+              st.radius_j = 0;
+              st.radius_eff = ri;
+              st.mass_eff = mi;
+              st.volume_i = vol_i;
+              st.volume_j = 0;
+              st.dt = dt;
+              if constexpr (H > 0)
+                for (int k = 0; k < H; ++k) h[k] = wall_history(i, w * H + k);
+              const models::ContactForce cf = law(wall_params(mat_i, wall.material), st, h);
+              if constexpr (H > 0)
+                for (int k = 0; k < H; ++k) wall_history(i, w * H + k) = h[k];
+              fw = cf.force;
+              f += cf.force;
+              t += cf.torque;
+              wall_contacts += cf.active ? 1 : 0;
+            }
+            if (record_wall_force) store3(wall_force, i * nwalls + w, fw);
+          }
+          store3(p.force, i, f);
+          store3(p.torque, i, t);
+          p.contacts(i) = contacts;
+          p.wall_contacts(i) = wall_contacts;
+        });
+  }
+};
+
+} // namespace cgdem::kernels

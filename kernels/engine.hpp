@@ -1,0 +1,60 @@
+#pragma once
+// The engine as the drivers see it: one abstract host interface over Simulation<Law, ExecSpace>, so a
+// run-time choice (scene YAML, --backend) picks one of a closed list of compiled instantiations
+// (drivers/physics_registry.cpp). Virtual calls happen once per batch of steps on the host only.
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+#include "core/engine_config.hpp"
+#include "core/frame.hpp"
+
+namespace cgdem {
+
+struct StepTimers {
+  double integrate = 0, binning = 0, neighbor_list = 0, forces = 0;
+  long list_builds = 0;
+};
+
+struct Observables {
+  double time = 0;
+  long step = 0;
+  double kinetic_energy = 0, rotational_energy = 0;
+  double momentum[3] = {0, 0, 0};
+  long contacts = 0;
+  double max_speed = 0;
+  double max_overlap_fraction = 0;  // largest overlap / smaller radius
+  std::vector<double> wall_force;   // 3 per named wall
+};
+
+// Thrown when the state stops being physical; what() is the diagnosis (step, particle, neighbours, cause).
+struct BlowUpError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  // Advance `steps` time steps; throws BlowUpError on a NaN/Inf state or an overlap beyond the limit.
+  virtual void advance(long steps) = 0;
+  virtual Observables observe() = 0;
+  virtual FrameData frame() = 0;
+  virtual CheckpointData checkpoint() = 0;
+  virtual void restore(const CheckpointData&) = 0;
+  virtual double time() const = 0;
+  virtual long step() const = 0;
+  virtual int size() const = 0;
+  virtual StepTimers timers() const = 0;
+  virtual std::size_t bytes() const = 0;  // device memory held by the store and the lists
+  virtual std::string physics() const = 0;
+  virtual std::string backend() const = 0;
+};
+
+// Physics combinations compiled into this binary, by name ("hertz+mindlin", ...).
+std::vector<std::string> compiled_physics();
+std::string physics_name(const ContactSpec& c);
+std::vector<std::string> compiled_backends();
+// Throws std::invalid_argument naming the combinations available when `config.contact` is not compiled.
+std::unique_ptr<Engine> make_engine(const EngineConfig& config, const std::string& backend);
+
+} // namespace cgdem

@@ -1,0 +1,144 @@
+#pragma once
+// Simulation<Law, ExecSpace>: the time loop over the SoA store, for one compiled contact law on one
+// Kokkos execution space. Each step (design.md):
+//   kick + drift -> (list rebuild with spatial reorder when a particle moved > skin/2) -> forces -> kick.
+#include <Kokkos_Core.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <numeric>
+#include <sstream>
+#include "kernels/cell_grid.hpp"
+#include "kernels/contact_forces.hpp"
+#include "kernels/engine.hpp"
+#include "kernels/integrator.hpp"
+#include "kernels/neighbor_list.hpp"
+#include "kernels/reductions.hpp"
+#include "kernels/reorder.hpp"
+
+namespace cgdem::kernels {
+
+template <class Law, class ExecSpace>
+class Simulation final : public Engine {
+ public:
+  using Mem = typename ExecSpace::memory_space;
+  static constexpr int H = Law::history_size;
+  using HistoryView = Kokkos::View<Real**, Kokkos::LayoutRight, Mem>;
+
+  Simulation(const EngineConfig& cfg, std::string physics_name, std::string backend_name)
+      : cfg_(cfg), physics_(std::move(physics_name)), backend_(std::move(backend_name)),
+        n_(static_cast<int>(cfg.particles.size())), store_(n_), scratch_(n_) {
+    upload_particles();
+    upload_tables();
+    Real rmax = 0;
+    for (double r : cfg.particles.radius) rmax = std::max<Real>(rmax, r);
+    // The longest interaction range of this law over all material pairs (adhesion, bridges) widens
+    // the neighbour cut-off; the force kernel uses it to skip pairs quickly.
+    cfg_.reach = 0;
+    for (std::size_t k = 0; k < cfg.pair_params.size(); ++k)
+      cfg_.reach = std::max<double>({cfg_.reach, Law::interaction_range(cfg.pair_params[k], rmax, rmax),
+                                     Law::interaction_range(cfg.wall_params[k], rmax, 0)});
+    cutoff_extra_ = cfg_.reach + cfg.skin;
+    grid_ = CellGrid(cfg.domain, 2 * rmax + cutoff_extra_, std::max<long>(8L * n_, 1L << 16));
+    for (int a = 0; a < 3; ++a)
+      if (cfg.domain.periodic[a] && grid_.dims[a] < 3) {
+        std::ostringstream msg;
+        msg << "periodic axis " << "xyz"[a] << " is " << cfg.domain.length[a]
+            << " m long, less than 3 neighbour cells of " << 2 * rmax + cutoff_extra_
+            << " m: enlarge the domain along it or reduce the skin";
+        throw std::invalid_argument(msg.str());
+      }
+    identity_ = Kokkos::View<int*, Mem>("cgdem::kernels::identity", n_);
+    auto id = identity_;
+    Kokkos::parallel_for("cgdem::kernels::iota", Kokkos::RangePolicy<ExecSpace>(0, n_), KOKKOS_LAMBDA(int i) { id(i) = i; });
+    if (!cfg_.walls.empty())
+      wall_force_record_ = Kokkos::View<Real* [3], Mem>("cgdem::kernels::wall_force_record", std::size_t(n_) * cfg_.walls.size());
+    rebuild(true);
+    compute_forces(true);
+  }
+
+  void advance(long steps) override {
+    Kokkos::Timer timer;
+    for (long s = 0; s < steps; ++s) {
+      timer.reset();
+      const Real max_d2 = Integrator<ExecSpace>::kick_drift(store_, cfg_.domain, cfg_.gravity, cfg_.dt, n_);
+      timers_.integrate += timer.seconds();
+      if (!(max_d2 < Kokkos::Experimental::infinity<Real>::value)) throw BlowUpError(diagnose("a position or velocity became NaN or Inf"));
+      if (4 * max_d2 > cfg_.skin * cfg_.skin) rebuild(false);
+      ++step_;
+      time_ = step_ * cfg_.dt;  // not accumulated: a restart reproduces it bitwise
+      compute_forces(s == steps - 1);
+      timer.reset();
+      Integrator<ExecSpace>::kick(store_, cfg_.gravity, cfg_.dt, n_);
+      Kokkos::fence();
+      timers_.integrate += timer.seconds();
+      if (step_ % health_every_ == 0) check_overlaps();
+    }
+  }
+
+  Observables observe() override {
+    Observables o;
+    o.time = time_;
+    o.step = step_;
+    const SystemSums s = system_sums<ExecSpace>(store_, n_);
+    o.kinetic_energy = s.kinetic;
+    o.rotational_energy = s.rotational;
+    for (int a = 0; a < 3; ++a) o.momentum[a] = s.momentum[a];
+    o.contacts = s.contacts;
+    o.max_speed = s.max_speed;
+    o.max_overlap_fraction = max_overlap_fraction();
+    // Wall forces recorded by the last force evaluation (the last step of advance(), or construction).
+    if (!cfg_.walls.empty()) {
+      std::vector<int> owner;
+      for (const Wall& w : cfg_.walls) owner.push_back(w.owner);
+      o.wall_force = wall_forces<ExecSpace>(wall_force_record_, owner, static_cast<int>(cfg_.wall_names.size()), n_);
+    }
+    return o;
+  }
+
+  FrameData frame() override;
+  CheckpointData checkpoint() override;
+  void restore(const CheckpointData& c) override;
+
+  double time() const override { return time_; }
+  long step() const override { return step_; }
+  int size() const override { return n_; }
+  StepTimers timers() const override { return timers_; }
+  std::size_t bytes() const override {
+    return 2 * std::size_t(n_) * ParticleStore<Mem>::bytes_per_particle() + nl_.bytes() +
+           wall_history_.span() * sizeof(Real) * (H > 0 ? 2 : 1);
+  }
+  std::string physics() const override { return physics_; }
+  std::string backend() const override { return backend_; }
+
+ private:
+  void upload_particles();
+  void upload_tables();
+  void rebuild(bool first);
+  void compute_forces(bool record_wall_forces);
+  Real max_overlap_fraction();
+  void check_overlaps();
+  std::string diagnose(const std::string& what);
+
+  EngineConfig cfg_;
+  std::string physics_, backend_;
+  int n_;
+  ParticleStore<Mem> store_, scratch_;
+  Kokkos::View<models::PairParameters**, Mem> pair_params_, wall_params_;
+  Kokkos::View<Wall*, Mem> walls_;
+  HistoryView wall_history_, wall_history_scratch_;
+  Kokkos::View<Real* [3], Mem> wall_force_record_;  // N x wall parts, written on recording steps
+  NeighborList<ExecSpace, H> nl_;
+  CellBins<ExecSpace> bins_;
+  CellGrid grid_;
+  Kokkos::View<int*, Mem> identity_;
+  Real cutoff_extra_ = 0;
+  long builds_ = 0;
+  long step_ = 0;
+  double time_ = 0;
+  long health_every_ = 100;
+  StepTimers timers_;
+};
+
+} // namespace cgdem::kernels
+
+#include "kernels/simulation_impl.hpp"

@@ -1,0 +1,355 @@
+#pragma once
+// Out-of-line members of Simulation (host orchestration; the kernels live in their own headers).
+#include <cmath>
+#include <string>
+
+namespace cgdem::kernels {
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::upload_particles() {
+  const ParticleSet& ps = cfg_.particles;
+  auto h_id = Kokkos::create_mirror_view(store_.id);
+  auto h_x = Kokkos::create_mirror_view(store_.position);
+  auto h_v = Kokkos::create_mirror_view(store_.velocity);
+  auto h_w = Kokkos::create_mirror_view(store_.angular_velocity);
+  auto h_r = Kokkos::create_mirror_view(store_.radius);
+  auto h_m = Kokkos::create_mirror_view(store_.mass);
+  auto h_I = Kokkos::create_mirror_view(store_.inertia);
+  auto h_k = Kokkos::create_mirror_view(store_.scale_factor);
+  auto h_mat = Kokkos::create_mirror_view(store_.material);
+  auto h_g = Kokkos::create_mirror_view(store_.group);
+  for (int i = 0; i < n_; ++i) {
+    h_id(i) = ps.id[i];
+    const Vec3 x = cfg_.domain.wrap(Vec3{ps.position[i][0], ps.position[i][1], ps.position[i][2]});
+    for (int a = 0; a < 3; ++a) {
+      h_x(i, a) = x[a];
+      h_v(i, a) = ps.velocity[i][a];
+      h_w(i, a) = ps.angular_velocity[i][a];
+    }
+    const double r = ps.radius[i];
+    h_r(i) = r;
+    h_m(i) = ps.density[i] * 4.0 / 3.0 * math::pi * r * r * r;
+    h_I(i) = 0.4 * h_m(i) * r * r;
+    h_k(i) = cfg_.scale_factor.empty() ? 1.0 : cfg_.scale_factor[i];
+    h_mat(i) = ps.material[i];
+    h_g(i) = ps.group[i];
+  }
+  Kokkos::deep_copy(store_.id, h_id);
+  Kokkos::deep_copy(store_.position, h_x);
+  Kokkos::deep_copy(store_.velocity, h_v);
+  Kokkos::deep_copy(store_.angular_velocity, h_w);
+  Kokkos::deep_copy(store_.radius, h_r);
+  Kokkos::deep_copy(store_.mass, h_m);
+  Kokkos::deep_copy(store_.inertia, h_I);
+  Kokkos::deep_copy(store_.scale_factor, h_k);
+  Kokkos::deep_copy(store_.material, h_mat);
+  Kokkos::deep_copy(store_.group, h_g);
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::upload_tables() {
+  const int nm = cfg_.num_materials;
+  pair_params_ = Kokkos::View<models::PairParameters**, Mem>("cgdem::kernels::pair_params", nm, nm);
+  wall_params_ = Kokkos::View<models::PairParameters**, Mem>("cgdem::kernels::wall_params", nm, nm);
+  auto hp = Kokkos::create_mirror_view(pair_params_);
+  auto hw = Kokkos::create_mirror_view(wall_params_);
+  for (int a = 0; a < nm; ++a)
+    for (int b = 0; b < nm; ++b) {
+      hp(a, b) = cfg_.pair_params[a * nm + b];
+      hw(a, b) = cfg_.wall_params[a * nm + b];
+    }
+  Kokkos::deep_copy(pair_params_, hp);
+  Kokkos::deep_copy(wall_params_, hw);
+  walls_ = Kokkos::View<Wall*, Mem>("cgdem::kernels::walls", cfg_.walls.size());
+  auto hwalls = Kokkos::create_mirror_view(walls_);
+  for (std::size_t w = 0; w < cfg_.walls.size(); ++w) hwalls(w) = cfg_.walls[w];
+  Kokkos::deep_copy(walls_, hwalls);
+  wall_history_ = HistoryView("cgdem::kernels::wall_history", n_, cfg_.walls.size() * H);
+  wall_history_scratch_ = HistoryView("cgdem::kernels::wall_history_scratch", n_, cfg_.walls.size() * H);
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::rebuild(bool first) {
+  Kokkos::Timer timer;
+  bins_.build(grid_, store_.position, n_);
+  Kokkos::View<int*, Mem> old_index = identity_;
+  const bool reorder = cfg_.reorder_every > 0 && builds_ % cfg_.reorder_every == 0;
+  if (reorder) {
+    // Keep the sort order as the map new index -> old index for the history transfer, then rebin in
+    // the new order (cheap, and keeps binning and listing independent of whether we reordered).
+    old_index = Kokkos::View<int*, Mem>("cgdem::kernels::old_index", n_);
+    Kokkos::deep_copy(old_index, Kokkos::subview(bins_.order, std::make_pair(0, n_)));
+    permute_store<ExecSpace>(store_, scratch_, old_index, n_);
+    permute_rows<ExecSpace>(wall_history_, wall_history_scratch_, old_index, n_);
+    std::swap(store_, scratch_);
+    std::swap(wall_history_, wall_history_scratch_);
+    bins_.build(grid_, store_.position, n_);
+  }
+  Kokkos::fence();
+  timers_.binning += timer.seconds();
+  timer.reset();
+  nl_.build(cfg_.domain, grid_, bins_, store_.position, store_.radius, cutoff_extra_, n_, old_index, !first);
+  Kokkos::deep_copy(store_.position_at_build, store_.position);
+  Kokkos::fence();
+  timers_.neighbor_list += timer.seconds();
+  ++builds_;
+  ++timers_.list_builds;
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces) {
+  Kokkos::Timer timer;
+  Kokkos::View<Real* [3], Mem> record;
+  if (record_wall_forces) record = wall_force_record_;
+  ContactForces<ExecSpace, Law>::compute(store_, nl_, cfg_.domain, pair_params_, wall_params_, walls_, wall_history_,
+                                         record, time_, cfg_.dt, cfg_.reach, Law{}, n_);
+  Kokkos::fence();
+  timers_.forces += timer.seconds();
+}
+
+template <class Law, class ExecSpace>
+Real Simulation<Law, ExecSpace>::max_overlap_fraction() {
+  const auto p = store_;
+  const auto offsets = nl_.offsets;
+  const auto neigh = nl_.neighbors;
+  const Domain domain = cfg_.domain;
+  const auto walls = walls_;
+  const int nwalls = static_cast<int>(walls_.extent(0));
+  const Real t = time_;
+  Real worst = 0;
+  Kokkos::parallel_reduce(
+      "cgdem::kernels::max_overlap", Kokkos::RangePolicy<ExecSpace>(0, n_),
+      KOKKOS_LAMBDA(int i, Real& w) {
+        const Vec3 xi = load3(p.position, i);
+        const Real ri = p.radius(i);
+        for (int s = offsets(i); s < offsets(i + 1); ++s) {
+          const int j = neigh(s);
+          const Real rj = p.radius(j);
+          const Real ov = ri + rj - norm(domain.minimum_image(load3(p.position, j) - xi));
+          const Real frac = ov / (ri < rj ? ri : rj);
+          if (frac > w) w = frac;
+        }
+        for (int k = 0; k < nwalls; ++k) {
+          const WallContact c = wall_contact(walls(k), t, xi, ri);
+          if (c.reachable && c.overlap / ri > w) w = c.overlap / ri;
+        }
+        if (!math::isfinite(xi.x + xi.y + xi.z)) w = Kokkos::Experimental::infinity<Real>::value;
+      },
+      Kokkos::Max<Real>(worst));
+  return worst;
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::check_overlaps() {
+  const Real worst = max_overlap_fraction();
+  if (!(worst <= cfg_.max_overlap_fraction)) {
+    char what[160];
+    std::snprintf(what, sizeof what, "an overlap reached %.3g of the smaller radius (limit %.3g)", worst,
+                  cfg_.max_overlap_fraction);
+    throw BlowUpError(diagnose(what));
+  }
+}
+
+// Find the worst particle on the host and say what probably happened.
+template <class Law, class ExecSpace>
+std::string Simulation<Law, ExecSpace>::diagnose(const std::string& what) {
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.position);
+  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.velocity);
+  auto r = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.radius);
+  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.id);
+  auto off = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nl_.offsets);
+  auto nb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nl_.neighbors);
+  int worst = -1;
+  double worst_score = -1;
+  std::string neighbours;
+  for (int i = 0; i < n_; ++i) {
+    const Vec3 xi{x(i, 0), x(i, 1), x(i, 2)};
+    const Vec3 vi{v(i, 0), v(i, 1), v(i, 2)};
+    double score = std::isfinite(norm2(xi) + norm2(vi)) ? 0 : 1e300;
+    for (int s = off(i); s < off(i + 1) && score < 1e300; ++s) {
+      const int j = nb(s);
+      const double ov = r(i) + r(j) - norm(cfg_.domain.minimum_image(Vec3{x(j, 0), x(j, 1), x(j, 2)} - xi));
+      score = std::max(score, ov / std::min(r(i), r(j)));
+    }
+    if (score > worst_score) {
+      worst_score = score;
+      worst = i;
+    }
+  }
+  std::ostringstream msg;
+  msg << "blow-up at step " << step_ << " (t = " << time_ << " s): " << what;
+  if (worst >= 0) {
+    msg << "; particle id " << id(worst) << " at (" << x(worst, 0) << ", " << x(worst, 1) << ", " << x(worst, 2)
+        << ") velocity (" << v(worst, 0) << ", " << v(worst, 1) << ", " << v(worst, 2) << "), radius " << r(worst)
+        << "; neighbours (id:overlap/radius)";
+    int shown = 0;
+    for (int s = off(worst); s < off(worst + 1) && shown < 8; ++s, ++shown) {
+      const int j = nb(s);
+      const double ov = r(worst) + r(j) -
+                        norm(cfg_.domain.minimum_image(Vec3{x(j, 0), x(j, 1), x(j, 2)} - Vec3{x(worst, 0), x(worst, 1), x(worst, 2)}));
+      msg << " " << id(j) << ":" << ov / std::min(r(worst), r(j));
+    }
+  }
+  msg << "; likely cause: "
+      << (step_ < 10 ? "overlapping or too close initial particles, or a time step far above the stable limit"
+                     : "the time step (" + std::to_string(cfg_.dt) +
+                           " s) is too large for the contact stiffness and impact speeds: use time.step: auto, "
+                           "a smaller time.fraction, or run 'cgdem check' to see the estimate");
+  msg << ". The last good frame is in the output file.";
+  return msg.str();
+}
+
+template <class Law, class ExecSpace>
+FrameData Simulation<Law, ExecSpace>::frame() {
+  // Host copies in id order, so frames of one run line up row by row whatever the reorders did.
+  auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.id);
+  auto x = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.position);
+  auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.velocity);
+  auto w = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.angular_velocity);
+  auto r = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.radius);
+  auto m = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.mass);
+  auto g = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.group);
+  std::vector<int> rank(n_);
+  std::iota(rank.begin(), rank.end(), 0);
+  std::sort(rank.begin(), rank.end(), [&](int a, int b) { return id(a) < id(b); });
+  FrameData f;
+  f.time = time_;
+  f.step = step_;
+  f.id.resize(n_);
+  f.position.resize(3 * n_);
+  f.velocity.resize(3 * n_);
+  f.angular_velocity.resize(3 * n_);
+  f.radius.resize(n_);
+  f.mass.resize(n_);
+  f.group.resize(n_);
+  for (int k = 0; k < n_; ++k) {
+    const int i = rank[k];
+    f.id[k] = id(i);
+    for (int a = 0; a < 3; ++a) {
+      f.position[3 * k + a] = x(i, a);
+      f.velocity[3 * k + a] = v(i, a);
+      f.angular_velocity[3 * k + a] = w(i, a);
+    }
+    f.radius[k] = r(i);
+    f.mass[k] = m(i);
+    f.group[k] = g(i);
+  }
+  return f;
+}
+
+namespace detail {
+template <class V>
+std::vector<double> to_reals(const V& view) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
+  std::vector<double> out(h.span());
+  for (std::size_t k = 0; k < h.span(); ++k) out[k] = h.data()[k];
+  return out;
+}
+template <class V>
+std::vector<std::int64_t> to_ints(const V& view) {
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
+  std::vector<std::int64_t> out(h.span());
+  for (std::size_t k = 0; k < h.span(); ++k) out[k] = h.data()[k];
+  return out;
+}
+template <class V, class T>
+void from_vector(const V& view, const std::vector<T>& src, const char* name) {
+  if (src.size() != view.span())
+    throw std::runtime_error(std::string("checkpoint field '") + name + "' has " + std::to_string(src.size()) +
+                             " values, expected " + std::to_string(view.span()));
+  auto h = Kokkos::create_mirror_view(view);
+  for (std::size_t k = 0; k < src.size(); ++k) h.data()[k] = static_cast<typename V::value_type>(src[k]);
+  Kokkos::deep_copy(view, h);
+}
+}  // namespace detail
+
+// Everything the trajectory depends on, in the store's current order: particle fields, forces of the
+// last evaluation (the next half kick uses them), the neighbour list with its history, wall history.
+template <class Law, class ExecSpace>
+CheckpointData Simulation<Law, ExecSpace>::checkpoint() {
+  CheckpointData c;
+  c.time = time_;
+  c.step = step_;
+  c.scalars["builds"] = static_cast<double>(builds_);
+  c.scalars["num_slots"] = nl_.num_slots;
+  c.scalars["history_size"] = H;
+  c.ints["id"] = detail::to_ints(store_.id);
+  c.ints["material"] = detail::to_ints(store_.material);
+  c.ints["group"] = detail::to_ints(store_.group);
+  c.ints["contacts"] = detail::to_ints(store_.contacts);
+  c.ints["wall_contacts"] = detail::to_ints(store_.wall_contacts);
+  c.ints["nl_offsets"] = detail::to_ints(nl_.offsets);
+  auto neigh = detail::to_ints(nl_.neighbors);
+  neigh.resize(nl_.num_slots);
+  c.ints["nl_neighbors"] = neigh;
+  c.reals["position"] = detail::to_reals(store_.position);
+  c.reals["velocity"] = detail::to_reals(store_.velocity);
+  c.reals["angular_velocity"] = detail::to_reals(store_.angular_velocity);
+  c.reals["force"] = detail::to_reals(store_.force);
+  c.reals["torque"] = detail::to_reals(store_.torque);
+  c.reals["position_at_build"] = detail::to_reals(store_.position_at_build);
+  c.reals["radius"] = detail::to_reals(store_.radius);
+  c.reals["mass"] = detail::to_reals(store_.mass);
+  c.reals["inertia"] = detail::to_reals(store_.inertia);
+  c.reals["scale_factor"] = detail::to_reals(store_.scale_factor);
+  auto hist = detail::to_reals(nl_.history);
+  hist.resize(std::size_t(nl_.num_slots) * H);
+  c.reals["nl_history"] = hist;
+  c.reals["wall_history"] = detail::to_reals(wall_history_);
+  if (!cfg_.walls.empty()) c.reals["wall_force_record"] = detail::to_reals(wall_force_record_);
+  return c;
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
+  auto need = [&](const auto& map, const char* key) -> const auto& {
+    auto it = map.find(key);
+    if (it == map.end()) throw std::runtime_error(std::string("checkpoint lacks field '") + key + "'");
+    return it->second;
+  };
+  if (need(c.ints, "id").size() != std::size_t(n_))
+    throw std::runtime_error("checkpoint holds " + std::to_string(need(c.ints, "id").size()) +
+                             " particles but the scene has " + std::to_string(n_));
+  if (static_cast<int>(need(c.scalars, "history_size")) != H)
+    throw std::runtime_error("checkpoint was written by a different contact law (history size differs)");
+  detail::from_vector(store_.id, need(c.ints, "id"), "id");
+  detail::from_vector(store_.material, need(c.ints, "material"), "material");
+  detail::from_vector(store_.group, need(c.ints, "group"), "group");
+  detail::from_vector(store_.contacts, need(c.ints, "contacts"), "contacts");
+  detail::from_vector(store_.wall_contacts, need(c.ints, "wall_contacts"), "wall_contacts");
+  detail::from_vector(store_.position, need(c.reals, "position"), "position");
+  detail::from_vector(store_.velocity, need(c.reals, "velocity"), "velocity");
+  detail::from_vector(store_.angular_velocity, need(c.reals, "angular_velocity"), "angular_velocity");
+  detail::from_vector(store_.force, need(c.reals, "force"), "force");
+  detail::from_vector(store_.torque, need(c.reals, "torque"), "torque");
+  detail::from_vector(store_.position_at_build, need(c.reals, "position_at_build"), "position_at_build");
+  detail::from_vector(store_.radius, need(c.reals, "radius"), "radius");
+  detail::from_vector(store_.mass, need(c.reals, "mass"), "mass");
+  detail::from_vector(store_.inertia, need(c.reals, "inertia"), "inertia");
+  detail::from_vector(store_.scale_factor, need(c.reals, "scale_factor"), "scale_factor");
+  detail::from_vector(wall_history_, need(c.reals, "wall_history"), "wall_history");
+  if (!cfg_.walls.empty()) detail::from_vector(wall_force_record_, need(c.reals, "wall_force_record"), "wall_force_record");
+  // The neighbour list exactly as it was: same slots, same order, same history.
+  const auto& offs = need(c.ints, "nl_offsets");
+  const auto& neigh = need(c.ints, "nl_neighbors");
+  const auto& hist = need(c.reals, "nl_history");
+  const int slots = static_cast<int>(neigh.size());
+  nl_.offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_offsets", n_ + 1);
+  nl_.neighbors = Kokkos::View<int*, Mem>("cgdem::kernels::nl_neighbors", static_cast<int>(slots * 1.2) + 64);
+  nl_.history = HistoryView("cgdem::kernels::nl_history", H > 0 ? nl_.neighbors.extent(0) : 0, H);
+  detail::from_vector(nl_.offsets, offs, "nl_offsets");
+  {
+    auto h = Kokkos::create_mirror_view(nl_.neighbors);
+    for (int k = 0; k < slots; ++k) h(k) = static_cast<int>(neigh[k]);
+    Kokkos::deep_copy(nl_.neighbors, h);
+    auto hh = Kokkos::create_mirror_view(nl_.history);
+    for (std::size_t k = 0; k < hist.size(); ++k) hh.data()[k] = hist[k];
+    Kokkos::deep_copy(nl_.history, hh);
+  }
+  nl_.num_slots = slots;
+  builds_ = static_cast<long>(need(c.scalars, "builds"));
+  step_ = c.step;
+  time_ = c.time;
+}
+
+} // namespace cgdem::kernels
