@@ -1,0 +1,55 @@
+#pragma once
+// Liquid bridge, Rabinovich-Lambert (Hu eqs 19-21, 37, 42), physics.md 1:
+//   F_cap = 4 pi R* sigma cos(theta) / (1 + 1/(sqrt(1 + V/(pi R* S^2)) - 1))
+// evaluated here in the cancellation-free form 4 pi R* sigma cos(theta) q/(q + 1 + sqrt(1 + q)),
+// q = V/(pi R* S^2), which is the same expression multiplied through by (sqrt(1+q) + 1)/(sqrt(1+q) + 1).
+// S = -delta is the surface separation, clamped below at S_min (min_separation), so an overlapping pair
+// feels the S_min force. The bridge forms when the surfaces touch (delta >= 0) and ruptures when
+// S > S_rup = (1 + 0.5 theta) V^(1/3) (a bridge exactly S_rup long still holds); a pair that approaches
+// without having touched feels nothing.
+// V = liquid_volume if > 0, else liquid_fraction (V_i + V_j) (Hu eq 42: 0.083 x 0.05; a wall has V_j = 0).
+// The Coulomb load is left as the normal law's repulsion (which already carries the bridge's pull).
+//
+// History (1 Real): [0] bridge alive flag (0 or 1).
+#include "models/contact_law.hpp"
+
+namespace cgdem::models {
+
+struct CapillaryBridge {
+  static constexpr int history_size = 1;
+  static constexpr const char* name = "capillary";
+
+  KOKKOS_INLINE_FUNCTION static Real liquid_volume(const PairParameters& p, Real V_i, Real V_j) {
+    return p.liquid_volume > 0 ? p.liquid_volume : p.liquid_fraction * (V_i + V_j);
+  }
+  KOKKOS_INLINE_FUNCTION static Real rupture_distance(const PairParameters& p, Real V) {
+    return (1 + 0.5 * p.contact_angle) * math::cbrt(V);
+  }
+
+  // S_rup for the bridge between spheres of radii R_i and R_j (R_j <= 0 or infinite: a wall, no liquid).
+  static Real interaction_range(const PairParameters& p, Real R_i, Real R_j) {
+    if (!(p.surface_tension > 0)) return 0;
+    const Real c = 4.0 / 3.0 * math::pi;
+    const Real V_i = R_i > 0 ? c * R_i * R_i * R_i : 0;
+    const Real V_j = (R_j > 0 && math::isfinite(R_j)) ? c * R_j * R_j * R_j : 0;
+    const Real V = liquid_volume(p, V_i, V_j);
+    return V > 0 ? rupture_distance(p, V) : 0;
+  }
+
+  KOKKOS_INLINE_FUNCTION Real operator()(const PairParameters& p, const PairState& s, NormalResult&,
+                                         Real* h) const {
+    const Real V = liquid_volume(p, s.volume_i, s.volume_j);
+    const Real gap = -s.overlap;
+    bool alive = h[0] > 0.5 || s.overlap >= 0; // forms on contact
+    if (alive && (gap > rupture_distance(p, V) || !(V > 0) || !(p.surface_tension > 0))) alive = false;
+    h[0] = alive ? 1 : 0;
+    if (!alive) return 0;
+    const Real S = gap > p.min_separation ? gap : p.min_separation;
+    const Real full = 4 * math::pi * s.radius_eff * p.surface_tension * math::cos(p.contact_angle);
+    if (!(S > 0)) return full; // S_min = 0 at contact: the q -> infinity limit
+    const Real q = V / (math::pi * s.radius_eff * S * S);
+    return full * q / (q + 1 + math::sqrt(1 + q));
+  }
+};
+
+} // namespace cgdem::models
