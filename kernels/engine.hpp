@@ -38,6 +38,8 @@ class Engine {
   // Advance `steps` time steps; throws BlowUpError on a NaN/Inf state or an overlap beyond the limit.
   virtual void advance(long steps) = 0;
   virtual Observables observe() = 0;
+  // Rebuild the neighbour list now, with a spatial reorder (tests of history carry-over; restarts).
+  virtual void rebuild_neighbors() = 0;
   virtual FrameData frame() = 0;
   virtual CheckpointData checkpoint() = 0;
   virtual void restore(const CheckpointData&) = 0;

@@ -95,6 +95,11 @@ class Simulation final : public Engine {
     return o;
   }
 
+  void rebuild_neighbors() override {
+    builds_ = 0;  // the next build reorders whatever reorder_every says
+    rebuild(false);
+  }
+
   FrameData frame() override;
   CheckpointData checkpoint() override;
   void restore(const CheckpointData& c) override;
