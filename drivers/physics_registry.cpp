@@ -11,6 +11,17 @@ std::unique_ptr<Engine> make_hertz_mindlin(const EngineConfig&, const std::strin
 std::unique_ptr<Engine> make_hertz(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_linear_mindlin(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_linear(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_mindlin_ct(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_mindlin_sd(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_jkr(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_jkr_mindlin(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_jkr_mindlin_sd(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_dmt_mindlin(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_sjkr_mindlin(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_capillary_mindlin(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_capillary(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_eepa_mindlin(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_eepa_mindlin_ct(const EngineConfig&, const std::string&, const std::string&);
 
 namespace {
 struct Entry {
@@ -22,6 +33,17 @@ const Entry registry[] = {
     {"hertz", make_hertz},
     {"linear+mindlin", make_linear_mindlin},
     {"linear", make_linear},
+    {"hertz+mindlin+constant_torque", make_hertz_mindlin_ct},
+    {"hertz+mindlin+spring_dashpot", make_hertz_mindlin_sd},
+    {"jkr", make_jkr},
+    {"jkr+mindlin", make_jkr_mindlin},
+    {"jkr+mindlin+spring_dashpot", make_jkr_mindlin_sd},
+    {"hertz+dmt+mindlin", make_hertz_dmt_mindlin},
+    {"hertz+jkr_simplified+mindlin", make_hertz_sjkr_mindlin},
+    {"hertz+capillary+mindlin", make_hertz_capillary_mindlin},
+    {"hertz+capillary", make_hertz_capillary},
+    {"eepa+mindlin", make_eepa_mindlin},
+    {"eepa+mindlin+constant_torque", make_eepa_mindlin_ct},
 };
 } // namespace
 
