@@ -1,0 +1,698 @@
+// Initial particles from the scene's groups. See drivers/particle_generation.hpp.
+#include "drivers/particle_generation.hpp"
+
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <random>
+#include <set>
+#include <sstream>
+#include <unordered_map>
+
+namespace cgdem {
+
+double coarse_radius_factor(const GroupSpec& group) {
+  return group.coarse_grain.law == "none" ? 1.0 : group.coarse_grain.factor;
+}
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+std::string num_str(double v) {
+  std::ostringstream os;
+  os.precision(4);
+  os << v;
+  return os.str();
+}
+
+// Random numbers from std::mt19937_64 seeded through std::seed_seq (both fully specified by the standard),
+// converted by hand rather than with std::*_distribution so that a seed gives the same particles with any
+// standard library. One stream per purpose so that, e.g., changing velocity_random keeps the positions.
+class Rng {
+public:
+  enum Stream : std::uint32_t { radius = 1, position = 2, velocity = 3 };
+  Rng(std::uint64_t seed, Stream stream) {
+    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
+                      static_cast<std::uint32_t>(stream), 0x63676465u /* "cgde" */};
+    eng_.seed(seq);
+  }
+  double uniform() { return static_cast<double>(eng_() >> 11) * (1.0 / 9007199254740992.0); } // [0, 1)
+  double uniform(double a, double b) { return a + (b - a) * uniform(); }
+  double normal() {                    // Box-Muller, one value per call
+    const double u1 = 1.0 - uniform(); // (0, 1]
+    const double u2 = uniform();
+    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
+  }
+  Vec3d unit_vector() {
+    const double z = uniform(-1.0, 1.0);
+    const double phi = uniform(0.0, 2.0 * kPi);
+    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
+    return {s * std::cos(phi), s * std::sin(phi), z};
+  }
+
+private:
+  std::mt19937_64 eng_;
+};
+
+[[noreturn]] void group_fail(const GroupSpec& g, std::size_t gi, const std::string& sub,
+                             const std::string& what, const std::string& fix) {
+  const std::string path = "groups." + std::to_string(gi) + (sub.empty() ? "" : "." + sub);
+  throw SceneError(scene_error_message(g.source_location.empty() ? "<scene>" : g.source_location, path,
+                                       "group '" + g.name + "': " + what, fix));
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Cell grid over the domain (hash of cells: memory follows the particles, not the domain size), periodic
+// wrap and minimum image on periodic axes. Cells are at least `cell` wide.
+struct CellKey {
+  int x, y, z;
+  bool operator==(const CellKey& o) const { return x == o.x && y == o.y && z == o.z; }
+};
+struct CellKeyHash {
+  std::size_t operator()(const CellKey& k) const {
+    return static_cast<std::size_t>(k.x) * 73856093u ^ static_cast<std::size_t>(k.y) * 19349663u ^
+           static_cast<std::size_t>(k.z) * 83492791u;
+  }
+};
+
+class CellGrid {
+public:
+  CellGrid(const DomainSpec& d, double cell) : d_(d) {
+    for (int a = 0; a < 3; ++a) {
+      len_[a] = d.hi[a] - d.lo[a];
+      if (d.periodic[a]) {
+        n_[a] = std::max(1, static_cast<int>(std::floor(len_[a] / cell)));
+        size_[a] = len_[a] / n_[a];
+      } else {
+        n_[a] = 0;
+        size_[a] = cell;
+      }
+    }
+  }
+  CellKey key(const Vec3d& x) const {
+    int c[3];
+    for (int a = 0; a < 3; ++a) {
+      double u = x[a] - d_.lo[a];
+      if (d_.periodic[a]) u -= len_[a] * std::floor(u / len_[a]);
+      c[a] = static_cast<int>(std::floor(u / size_[a]));
+      if (d_.periodic[a]) c[a] = std::min(std::max(c[a], 0), n_[a] - 1);
+    }
+    return {c[0], c[1], c[2]};
+  }
+  void insert(int index, const Vec3d& x) { cells_[key(x)].push_back(index); }
+  // Calls f(j) for every stored index in the 27 cells around x (each cell once).
+  template <class F>
+  void for_neighbours(const Vec3d& x, F&& f) const {
+    const CellKey k = key(x);
+    CellKey seen[27];
+    int nseen = 0;
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          int c[3] = {k.x + dx, k.y + dy, k.z + dz};
+          for (int a = 0; a < 3; ++a)
+            if (d_.periodic[a]) c[a] = ((c[a] % n_[a]) + n_[a]) % n_[a];
+          const CellKey nk{c[0], c[1], c[2]};
+          if (std::find(seen, seen + nseen, nk) != seen + nseen) continue;
+          seen[nseen++] = nk;
+          const auto it = cells_.find(nk);
+          if (it == cells_.end()) continue;
+          for (int j : it->second)
+            f(j);
+        }
+  }
+  // x_b - x_a, minimum image on periodic axes.
+  Vec3d delta(const Vec3d& a, const Vec3d& b) const {
+    Vec3d r;
+    for (int k = 0; k < 3; ++k) {
+      r[k] = b[k] - a[k];
+      if (d_.periodic[k]) r[k] -= len_[k] * std::round(r[k] / len_[k]);
+    }
+    return r;
+  }
+
+private:
+  DomainSpec d_;
+  double len_[3], size_[3];
+  int n_[3];
+  std::unordered_map<CellKey, std::vector<int>, CellKeyHash> cells_;
+};
+
+double dist2(const Vec3d& r) {
+  return r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+}
+
+// ---------------------------------------------------------------------------------------------------
+struct GroupParticles {
+  std::vector<Vec3d> position;
+  std::vector<double> radius, density; // density < 0: the material's
+  std::vector<std::int64_t> id;        // < 0: to be assigned
+};
+
+std::vector<double> sample_radii(const GroupSpec& g, std::size_t gi) {
+  const SizeSpec& s = g.size;
+  Rng rng(g.placement.seed, Rng::radius);
+  std::vector<double> r(static_cast<std::size_t>(g.count));
+  const bool truncate_lo = s.min_radius > 0, truncate_hi = s.max_radius > 0;
+  // lognormal: mean and std are those of the radius itself.
+  const double sig2 =
+      s.mean_radius > 0 ? std::log(1.0 + (s.std_radius * s.std_radius) / (s.mean_radius * s.mean_radius)) : 0;
+  const double mu = s.mean_radius > 0 ? std::log(s.mean_radius) - 0.5 * sig2 : 0;
+  for (auto& v : r) {
+    if (s.distribution == "mono") {
+      v = s.radius;
+    } else if (s.distribution == "uniform") {
+      v = rng.uniform(s.min_radius, s.max_radius);
+    } else {
+      int tries = 0;
+      for (;;) {
+        v = s.distribution == "normal" ? s.mean_radius + s.std_radius * rng.normal()
+                                       : std::exp(mu + std::sqrt(sig2) * rng.normal());
+        const bool ok = v > 0 && (!truncate_lo || v >= s.min_radius) && (!truncate_hi || v <= s.max_radius);
+        if (ok) break;
+        if (++tries > 100000)
+          group_fail(g, gi, "size",
+                     "the " + s.distribution + " distribution (mean " + num_str(s.mean_radius) + ", std " +
+                         num_str(s.std_radius) + ") almost never falls inside the truncation [min, max]",
+                     "widen min/max or move the mean inside them");
+      }
+    }
+    v *= coarse_radius_factor(g);
+  }
+  return r;
+}
+
+// ---- particle files ---------------------------------------------------------------------------------
+std::vector<std::string> split_csv(const std::string& line) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream ss(line);
+  while (std::getline(ss, cur, ',')) {
+    const auto b = cur.find_first_not_of(" \t\r");
+    const auto e = cur.find_last_not_of(" \t\r");
+    out.push_back(b == std::string::npos ? "" : cur.substr(b, e - b + 1));
+  }
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+
+void read_csv(const GroupSpec& g, std::size_t gi, GroupParticles& out) {
+  const std::string& path = g.placement.file;
+  std::ifstream in(path);
+  const std::string fix = "check the file: a header line id,x,y,z,radius[,density], one particle per line, "
+                          "'#' starts a comment line";
+  if (!in)
+    group_fail(g, gi, "placement.file", "cannot read particle file '" + path + "'",
+               "check the path (a relative path is taken from the scene file's directory)");
+  std::string line;
+  long lineno = 0;
+  std::map<std::string, int> col;
+  std::size_t ncol = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    const auto first = line.find_first_not_of(" \t\r");
+    if (first == std::string::npos || line[first] == '#') continue;
+    const auto fields = split_csv(line);
+    const std::string where = "particle file '" + path + "' line " + std::to_string(lineno) + ": ";
+    if (col.empty()) {
+      for (std::size_t c = 0; c < fields.size(); ++c) {
+        const std::string& name = fields[c];
+        if (name != "id" && name != "x" && name != "y" && name != "z" && name != "radius" &&
+            name != "density")
+          group_fail(g, gi, "placement.file", where + "unknown column '" + name + "'", fix);
+        if (!col.emplace(name, static_cast<int>(c)).second)
+          group_fail(g, gi, "placement.file", where + "column '" + name + "' appears twice", fix);
+      }
+      for (const char* need : {"x", "y", "z", "radius"})
+        if (!col.count(need))
+          group_fail(g, gi, "placement.file", where + "the header has no column '" + need + "'", fix);
+      ncol = fields.size();
+      continue;
+    }
+    if (fields.size() != ncol)
+      group_fail(g, gi, "placement.file",
+                 where + "expected " + std::to_string(ncol) + " values, got " + std::to_string(fields.size()),
+                 fix);
+    auto value = [&](const std::string& name) {
+      const std::string& s = fields[col.at(name)];
+      char* end = nullptr;
+      const double v = std::strtod(s.c_str(), &end);
+      if (s.empty() || *end != '\0' || !std::isfinite(v))
+        group_fail(g, gi, "placement.file", where + name + " '" + s + "' is not a number", fix);
+      return v;
+    };
+    out.position.push_back({value("x"), value("y"), value("z")});
+    const double r = value("radius");
+    if (!(r > 0))
+      group_fail(g, gi, "placement.file", where + "radius " + num_str(r) + " is not positive", fix);
+    out.radius.push_back(r);
+    double rho = -1;
+    if (col.count("density")) {
+      rho = value("density");
+      if (!(rho > 0))
+        group_fail(g, gi, "placement.file", where + "density " + num_str(rho) + " is not positive", fix);
+    }
+    out.density.push_back(rho);
+    std::int64_t id = -1;
+    if (col.count("id")) {
+      const double v = value("id");
+      if (v < 0 || v != std::floor(v) || v > 9e15)
+        group_fail(g, gi, "placement.file",
+                   where + "id " + fields[col.at("id")] + " is not a non-negative integer", fix);
+      id = static_cast<std::int64_t>(v);
+    }
+    out.id.push_back(id);
+  }
+  if (col.empty())
+    group_fail(g, gi, "placement.file", "particle file '" + path + "' has no header line", fix);
+}
+
+// Closes an HDF5 handle on scope exit.
+struct H5Closer {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~H5Closer() {
+    if (id >= 0) close(id);
+  }
+};
+
+struct H5Quiet { // no HDF5 error stack printing while we probe; restored afterwards
+  H5E_auto2_t func = nullptr;
+  void* data = nullptr;
+  H5Quiet() {
+    H5Eget_auto2(H5E_DEFAULT, &func, &data);
+    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
+  }
+  ~H5Quiet() { H5Eset_auto2(H5E_DEFAULT, func, data); }
+};
+
+void read_hdf5(const GroupSpec& g, std::size_t gi, GroupParticles& out) {
+  const std::string& path = g.placement.file;
+  const std::string fix =
+      "give a cgdem HDF5 result (datasets /frames/NNNNNN/position, radius, id) or a CSV file";
+  H5Quiet quiet;
+  H5Closer file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+  if (file.id < 0) group_fail(g, gi, "placement.file", "cannot open HDF5 file '" + path + "'", fix);
+  H5Closer frames{H5Gopen2(file.id, "/frames", H5P_DEFAULT), H5Gclose};
+  if (frames.id < 0)
+    group_fail(g, gi, "placement.file", "HDF5 file '" + path + "' has no /frames group", fix);
+  H5G_info_t info;
+  if (H5Gget_info(frames.id, &info) < 0 || info.nlinks == 0)
+    group_fail(g, gi, "placement.file", "HDF5 file '" + path + "' has no frames under /frames", fix);
+  std::string last;
+  long long last_num = -1;
+  for (hsize_t i = 0; i < info.nlinks; ++i) {
+    const ssize_t len =
+        H5Lget_name_by_idx(frames.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, nullptr, 0, H5P_DEFAULT);
+    if (len <= 0) continue;
+    std::string name(static_cast<std::size_t>(len) + 1, '\0');
+    H5Lget_name_by_idx(frames.id, ".", H5_INDEX_NAME, H5_ITER_INC, i, name.data(), name.size(), H5P_DEFAULT);
+    name.resize(static_cast<std::size_t>(len));
+    char* end = nullptr;
+    const long long num = std::strtoll(name.c_str(), &end, 10);
+    const long long key = (*end == '\0') ? num : -1;
+    if (last.empty() || key > last_num || (key == last_num && name > last)) last = name, last_num = key;
+  }
+  const std::string fpath = "/frames/" + last;
+  H5Closer frame{H5Gopen2(file.id, fpath.c_str(), H5P_DEFAULT), H5Gclose};
+  if (frame.id < 0) group_fail(g, gi, "placement.file", "cannot open " + fpath + " in '" + path + "'", fix);
+  auto read = [&](const char* name, hid_t type, void* buf, hsize_t expect, bool required) -> bool {
+    if (H5Lexists(frame.id, name, H5P_DEFAULT) <= 0) {
+      if (required)
+        group_fail(g, gi, "placement.file", "'" + path + "' " + fpath + " has no dataset '" + name + "'",
+                   fix);
+      return false;
+    }
+    H5Closer ds{H5Dopen2(frame.id, name, H5P_DEFAULT), H5Dclose};
+    H5Closer space{ds.id >= 0 ? H5Dget_space(ds.id) : -1, H5Sclose};
+    const hssize_t n = space.id >= 0 ? H5Sget_simple_extent_npoints(space.id) : -1;
+    if (n < 0 || static_cast<hsize_t>(n) != expect ||
+        (buf && H5Dread(ds.id, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf) < 0))
+      group_fail(g, gi, "placement.file",
+                 "cannot read dataset " + fpath + "/" + name + " of '" + path + "' (" + std::to_string(n) +
+                     " values, expected " + std::to_string(expect) + ")",
+                 fix);
+    return true;
+  };
+  // N from the radius dataset.
+  hsize_t n = 0;
+  {
+    if (H5Lexists(frame.id, "radius", H5P_DEFAULT) <= 0)
+      group_fail(g, gi, "placement.file", "'" + path + "' " + fpath + " has no dataset 'radius'", fix);
+    H5Closer ds{H5Dopen2(frame.id, "radius", H5P_DEFAULT), H5Dclose};
+    H5Closer space{ds.id >= 0 ? H5Dget_space(ds.id) : -1, H5Sclose};
+    const hssize_t np = space.id >= 0 ? H5Sget_simple_extent_npoints(space.id) : -1;
+    if (np < 0)
+      group_fail(g, gi, "placement.file", "cannot read " + fpath + "/radius of '" + path + "'", fix);
+    n = static_cast<hsize_t>(np);
+  }
+  std::vector<double> pos(3 * n), rad(n);
+  std::vector<std::int64_t> ids(n);
+  read("radius", H5T_NATIVE_DOUBLE, rad.data(), n, true);
+  read("position", H5T_NATIVE_DOUBLE, pos.data(), 3 * n, true);
+  const bool have_id = read("id", H5T_NATIVE_INT64, ids.data(), n, false);
+  for (hsize_t i = 0; i < n; ++i) {
+    if (!(rad[i] > 0) || !std::isfinite(rad[i]))
+      group_fail(g, gi, "placement.file",
+                 "'" + path + "' particle " + std::to_string(i) + " has radius " + num_str(rad[i]), fix);
+    out.position.push_back({pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]});
+    out.radius.push_back(rad[i]);
+    out.density.push_back(-1);
+    out.id.push_back(have_id ? ids[i] : -1);
+  }
+}
+
+bool is_hdf5(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  return in.gcount() == 8 && std::string(sig, 8) == std::string("\x89HDF\r\n\x1a\n", 8);
+}
+
+void load_file(const GroupSpec& g, std::size_t gi, GroupParticles& out) {
+  std::ifstream probe(g.placement.file);
+  if (!probe)
+    group_fail(g, gi, "placement.file", "cannot read particle file '" + g.placement.file + "'",
+               "check the path (a relative path is taken from the scene file's directory)");
+  if (is_hdf5(g.placement.file))
+    read_hdf5(g, gi, out);
+  else
+    read_csv(g, gi, out);
+  const std::size_t n = out.radius.size();
+  if (n == 0)
+    group_fail(g, gi, "placement.file", "particle file '" + g.placement.file + "' has no particles", "");
+  if (g.count > 0) {
+    if (static_cast<std::size_t>(g.count) > n)
+      group_fail(g, gi, "count",
+                 "count " + std::to_string(g.count) + " is more than the " + std::to_string(n) +
+                     " particles in '" + g.placement.file + "'",
+                 "leave count out (or 0) to take all particles of the file, or lower it");
+    const auto c = static_cast<std::size_t>(g.count);
+    out.position.resize(c), out.radius.resize(c), out.density.resize(c), out.id.resize(c);
+  }
+}
+
+// ---- placement ----------------------------------------------------------------------------------------
+struct Placed {
+  std::vector<Vec3d> position;
+  std::vector<double> radius;
+};
+
+void place_lattice(const GroupSpec& g, std::size_t gi, const std::vector<double>& r, GroupParticles& out) {
+  const PlacementSpec& p = g.placement;
+  const double rmax = *std::max_element(r.begin(), r.end());
+  const double s = p.spacing > 0 ? p.spacing : 1.05 * 2 * rmax;
+  if (s < 2 * rmax * (1 - 1e-12))
+    group_fail(g, gi, "placement.spacing",
+               "lattice spacing " + num_str(s) + " is below the largest diameter " + num_str(2 * rmax),
+               "use a spacing of at least the largest diameter, or leave spacing out (1.05 x it)");
+  long n[3];
+  for (int a = 0; a < 3; ++a) {
+    const double room = p.hi[a] - p.lo[a] - 2 * rmax;
+    n[a] = room < 0 ? 0 : static_cast<long>(std::floor(room / s + 1e-9)) + 1;
+  }
+  const long capacity = n[0] * n[1] * n[2];
+  if (g.count > capacity)
+    group_fail(g, gi, "placement",
+               "the lattice box holds only " + std::to_string(capacity) + " sites (" + std::to_string(n[0]) +
+                   " x " + std::to_string(n[1]) + " x " + std::to_string(n[2]) + " at spacing " + num_str(s) +
+                   ") for " + std::to_string(g.count) + " particles",
+               "enlarge placement lo/hi (e.g. raise hi z), reduce count, or reduce spacing");
+  for (long k = 0; k < g.count; ++k) {
+    const long i = k % n[0], j = (k / n[0]) % n[1], l = k / (n[0] * n[1]);
+    out.position.push_back({p.lo[0] + rmax + i * s, p.lo[1] + rmax + j * s, p.lo[2] + rmax + l * s});
+    out.radius.push_back(r[static_cast<std::size_t>(k)]);
+    out.density.push_back(-1);
+    out.id.push_back(-1);
+  }
+}
+
+// Random sequential addition inside a box or a z-aligned cylinder, avoiding every particle already in `grid`.
+void place_random(const GroupSpec& g, std::size_t gi, std::vector<double> r, CellGrid& grid, Placed& placed,
+                  GroupParticles& out) {
+  const PlacementSpec& p = g.placement;
+  const bool cyl = p.kind == "random_cylinder";
+  std::sort(r.begin(), r.end(), std::greater<double>()); // largest first: packs better
+  double vol_solid = 0;
+  for (double v : r)
+    vol_solid += 4.0 / 3.0 * kPi * v * v * v;
+  const double vol_region = cyl ? kPi * p.cylinder_radius * p.cylinder_radius * p.cylinder_height
+                                : (p.hi[0] - p.lo[0]) * (p.hi[1] - p.lo[1]) * (p.hi[2] - p.lo[2]);
+  const double fraction = vol_solid / vol_region;
+  const std::string fix =
+      std::string("enlarge the region (") + (cyl ? "radius, height" : "lo, hi") +
+      ") or place fewer particles; random placement rarely exceeds a solid fraction of 0.35";
+  if (fraction > 0.5)
+    group_fail(g, gi, "placement",
+               std::to_string(g.count) + " particles need a solid fraction of " + num_str(fraction) +
+                   " in the " + p.kind + " region",
+               fix);
+  Rng rng(p.seed, Rng::position);
+  const int max_tries = 20000;
+  for (std::size_t k = 0; k < r.size(); ++k) {
+    const double rk = r[k];
+    Vec3d x{};
+    bool ok = false;
+    for (int t = 0; t < max_tries && !ok; ++t) {
+      if (cyl) {
+        const double rho_max = p.cylinder_radius - rk;
+        const double h = p.cylinder_height - 2 * rk;
+        if (rho_max < 0 || h < 0)
+          group_fail(g, gi, "placement",
+                     "a particle of radius " + num_str(rk) + " does not fit in the cylinder",
+                     "enlarge the cylinder radius/height");
+        const double rho = rho_max * std::sqrt(rng.uniform());
+        const double phi = rng.uniform(0, 2 * kPi);
+        x = {p.center[0] + rho * std::cos(phi), p.center[1] + rho * std::sin(phi),
+             p.center[2] + rk + h * rng.uniform()};
+      } else {
+        for (int a = 0; a < 3; ++a) {
+          const double room = p.hi[a] - p.lo[a] - 2 * rk;
+          if (room < 0)
+            group_fail(g, gi, "placement",
+                       "a particle of radius " + num_str(rk) + " does not fit in the box along " +
+                           std::string(1, "xyz"[a]),
+                       "enlarge placement lo/hi");
+          x[a] = p.lo[a] + rk + room * rng.uniform();
+        }
+      }
+      ok = true;
+      grid.for_neighbours(x, [&](int j) {
+        if (!ok) return;
+        const double c = rk + placed.radius[static_cast<std::size_t>(j)];
+        if (dist2(grid.delta(x, placed.position[static_cast<std::size_t>(j)])) < c * c) ok = false;
+      });
+    }
+    if (!ok)
+      group_fail(g, gi, "placement",
+                 "could place only " + std::to_string(k) + " of " + std::to_string(g.count) +
+                     " particles without overlaps (" + p.kind + ", solid fraction " + num_str(fraction) + ")",
+                 fix);
+    grid.insert(static_cast<int>(placed.radius.size()), x);
+    placed.position.push_back(x);
+    placed.radius.push_back(rk);
+    out.position.push_back(x);
+    out.radius.push_back(rk);
+    out.density.push_back(-1);
+    out.id.push_back(-1);
+  }
+}
+
+std::string where_of(const Scene& scene, const ParticleSet& ps, std::size_t i, std::string& path) {
+  const int g = i < ps.group.size() ? ps.group[i] : -1;
+  if (g >= 0 && static_cast<std::size_t>(g) < scene.groups.size()) {
+    path = "groups." + std::to_string(g);
+    return scene.groups[static_cast<std::size_t>(g)].source_location.empty()
+               ? scene.source_file
+               : scene.groups[static_cast<std::size_t>(g)].source_location;
+  }
+  path = "particles";
+  return scene.source_file.empty() ? "<scene>" : scene.source_file;
+}
+
+} // namespace
+
+ParticleSet generate_particles(const Scene& scene) {
+  const std::size_t ng = scene.groups.size();
+  std::vector<GroupParticles> gp(ng);
+  std::vector<std::vector<double>> radii(ng);
+  double rmax = 0;
+  for (std::size_t gi = 0; gi < ng; ++gi) {
+    const GroupSpec& g = scene.groups[gi];
+    if (scene.material_index(g.material) < 0)
+      group_fail(g, gi, "material", "material '" + g.material + "' is not defined",
+                 "define it under materials");
+    if (g.placement.kind == "file") {
+      load_file(g, gi, gp[gi]);
+      for (double v : gp[gi].radius)
+        rmax = std::max(rmax, v);
+    } else {
+      if (g.count <= 0) group_fail(g, gi, "count", "count must be > 0", "give the number of particles");
+      radii[gi] = sample_radii(g, gi);
+      for (double v : radii[gi])
+        rmax = std::max(rmax, v);
+    }
+  }
+  // Place: file particles first (fixed), then the generated groups in order, each avoiding the earlier ones.
+  CellGrid grid(scene.domain, 2 * rmax);
+  Placed placed;
+  auto add_to_grid = [&](const GroupParticles& p) {
+    for (std::size_t i = 0; i < p.position.size(); ++i) {
+      grid.insert(static_cast<int>(placed.radius.size()), p.position[i]);
+      placed.position.push_back(p.position[i]);
+      placed.radius.push_back(p.radius[i]);
+    }
+  };
+  for (std::size_t gi = 0; gi < ng; ++gi)
+    if (scene.groups[gi].placement.kind == "file") add_to_grid(gp[gi]);
+  for (std::size_t gi = 0; gi < ng; ++gi) {
+    const GroupSpec& g = scene.groups[gi];
+    const std::string& kind = g.placement.kind;
+    if (kind == "file") continue;
+    if (kind == "lattice") {
+      place_lattice(g, gi, radii[gi], gp[gi]);
+      add_to_grid(gp[gi]);
+    } else if (kind == "random_box" || kind == "random_cylinder") {
+      place_random(g, gi, radii[gi], grid, placed, gp[gi]);
+    } else {
+      group_fail(g, gi, "placement.type", "unknown placement type '" + kind + "'",
+                 "use lattice, random_box, random_cylinder or file");
+    }
+  }
+  // Ids: keep the files', continue after the largest.
+  std::int64_t next_id = 1;
+  std::map<std::int64_t, std::size_t> file_ids;
+  for (std::size_t gi = 0; gi < ng; ++gi)
+    for (std::int64_t id : gp[gi].id) {
+      if (id < 0) continue;
+      const auto ins = file_ids.emplace(id, gi);
+      if (!ins.second)
+        group_fail(scene.groups[gi], gi, "placement.file",
+                   "particle id " + std::to_string(id) + " appears twice (also in group '" +
+                       scene.groups[ins.first->second].name + "')",
+                   "give every particle a unique id, or drop the id column to have ids assigned");
+      next_id = std::max(next_id, id + 1);
+    }
+  ParticleSet ps;
+  for (std::size_t gi = 0; gi < ng; ++gi) {
+    const GroupSpec& g = scene.groups[gi];
+    const int mat = scene.material_index(g.material);
+    const double rho_mat = scene.materials[static_cast<std::size_t>(mat)].density;
+    GroupParticles& p = gp[gi];
+    Rng vrng(g.placement.seed, Rng::velocity);
+    for (std::size_t i = 0; i < p.position.size(); ++i) {
+      const Vec3d u = vrng.unit_vector();
+      ps.id.push_back(p.id[i] >= 0 ? p.id[i] : next_id++);
+      ps.position.push_back(p.position[i]);
+      ps.velocity.push_back({g.velocity[0] + g.velocity_random * u[0],
+                             g.velocity[1] + g.velocity_random * u[1],
+                             g.velocity[2] + g.velocity_random * u[2]});
+      ps.angular_velocity.push_back({0, 0, 0});
+      ps.radius.push_back(p.radius[i]);
+      ps.density.push_back(p.density[i] > 0 ? p.density[i] : rho_mat);
+      ps.material.push_back(mat);
+      ps.group.push_back(static_cast<int>(gi));
+    }
+  }
+  return ps;
+}
+
+void check_particles(const Scene& scene, const ParticleSet& ps) {
+  const std::size_t n = ps.size();
+  const std::string src = scene.source_file.empty() ? "<scene>" : scene.source_file;
+  if (ps.position.size() != n || ps.radius.size() != n)
+    throw SceneError(scene_error_message(src, "particles",
+                                         "the particle set is inconsistent (ids, positions, radii)",
+                                         "this is a bug in the particle source; report it"));
+  const DomainSpec& d = scene.domain;
+  double rmax = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::string path;
+    const std::string loc = where_of(scene, ps, i, path);
+    const double r = ps.radius[i];
+    const Vec3d& x = ps.position[i];
+    const std::string pid = "particle " + std::to_string(ps.id[i]);
+    if (!(r > 0) || !std::isfinite(r))
+      throw SceneError(
+          scene_error_message(loc, path, pid + " has radius " + num_str(r), "give positive radii"));
+    for (int a = 0; a < 3; ++a) {
+      const double L = d.hi[a] - d.lo[a];
+      const std::string ax(1, "xyz"[a]);
+      if (!std::isfinite(x[a]))
+        throw SceneError(
+            scene_error_message(loc, path, pid + " has a non-finite position", "fix its position"));
+      if (d.periodic[a]) {
+        if (x[a] < d.lo[a] - L || x[a] > d.hi[a] + L)
+          throw SceneError(scene_error_message(loc, path,
+                                               pid + " is at " + ax + " = " + num_str(x[a]) +
+                                                   ", more than a box length outside the periodic domain [" +
+                                                   num_str(d.lo[a]) + ", " + num_str(d.hi[a]) + "]",
+                                               "move the particles into the domain or fix domain.lo/hi"));
+        if (2 * r > L)
+          throw SceneError(scene_error_message(loc, path,
+                                               pid + " (diameter " + num_str(2 * r) +
+                                                   ") is wider than the periodic domain along " + ax,
+                                               "make the periodic box longer than a particle diameter"));
+      } else if (x[a] < d.lo[a] || x[a] > d.hi[a]) {
+        throw SceneError(
+            scene_error_message(loc, path,
+                                pid + " is outside the domain: " + ax + " = " + num_str(x[a]) + " not in [" +
+                                    num_str(d.lo[a]) + ", " + num_str(d.hi[a]) + "]",
+                                "move the particles (placement region, file) inside domain.lo/hi or "
+                                "enlarge the domain"));
+      }
+    }
+    rmax = std::max(rmax, r);
+  }
+  if (n == 0) return;
+  CellGrid grid(d, 2 * rmax);
+  for (std::size_t i = 0; i < n; ++i)
+    grid.insert(static_cast<int>(i), ps.position[i]);
+  const double tol = scene.stability.overlap_tolerance;
+  const bool relax = scene.stability.relax_initial_overlaps;
+  long count = 0;
+  double worst = -1;
+  std::size_t wi = 0, wj = 0;
+  double w_overlap = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3d& xi = ps.position[i];
+    const double ri = ps.radius[i];
+    grid.for_neighbours(xi, [&](int jj) {
+      const auto j = static_cast<std::size_t>(jj);
+      if (j <= i) return;
+      const double rj = ps.radius[j];
+      const double dist = std::sqrt(dist2(grid.delta(xi, ps.position[j])));
+      const double overlap = ri + rj - dist;
+      if (overlap <= 0) return;
+      const double rel = overlap / std::min(ri, rj);
+      const bool coincident = dist <= 1e-9 * (ri + rj);
+      if (coincident || (!relax && rel > tol)) {
+        ++count;
+        const double key = coincident ? 1e300 : rel;
+        if (key > worst) worst = key, wi = i, wj = j, w_overlap = overlap;
+      }
+    });
+  }
+  if (count == 0) return;
+  std::string path;
+  const std::string loc = where_of(scene, ps, wi, path);
+  const double rel = w_overlap / std::min(ps.radius[wi], ps.radius[wj]);
+  const bool coincident = worst >= 1e300;
+  const std::string what = "particles " + std::to_string(ps.id[wi]) + " and " + std::to_string(ps.id[wj]) +
+                           (coincident ? " sit at the same position"
+                                       : " overlap by " + num_str(w_overlap) + " m (" + num_str(100 * rel) +
+                                             "% of the smaller radius; stability.overlap_tolerance is " +
+                                             num_str(100 * tol) + "%)") +
+                           (count > 1 ? ", " + std::to_string(count) + " such pairs in all" : "");
+  const std::string fix = coincident ? "fix the packing: remove or move the duplicated particles"
+                                     : "fix the packing (spacing, region, count, particle file) or set "
+                                       "stability.relax_initial_overlaps: true";
+  throw SceneError(scene_error_message(loc, path, what, fix));
+}
+
+} // namespace cgdem

@@ -1,0 +1,27 @@
+#pragma once
+// Initial particles from a scene's groups (sizes, placement, velocities) and their sanity check.
+#include "core/scene.hpp"
+#include "drivers/scene_parser.hpp"
+
+namespace cgdem {
+
+// Coarse-graining hook: the factor by which a group's particle radius is multiplied (the group's
+// coarse_grain.factor for any law other than "none", else 1). The scaling of material parameters and
+// forces is applied elsewhere (physics.md section 2); here only the size of the generated particles.
+double coarse_radius_factor(const GroupSpec& group);
+
+// One ParticleSet for the whole scene, groups in scene order, deterministic for the groups' seeds.
+// Radii: SizeSpec (of the original particles) times coarse_radius_factor; placement lattice /
+// random_box / random_cylinder (random sequential addition, no overlaps, also none with the particles
+// of groups placed before) / file (CSV or cgdem HDF5, taken as they are: no coarse-grain factor).
+// Ids are unique: file ids are kept, generated ids continue after the largest file id (from 1).
+// Throws SceneError (one line, naming the group) when a group cannot be generated.
+ParticleSet generate_particles(const Scene& scene);
+
+// Throws SceneError when a particle is outside the domain (non-periodic axes: centre outside [lo, hi];
+// periodic axes: more than one box length outside), or when two particles overlap by more than
+// stability.overlap_tolerance times the smaller radius (minimum image on periodic axes; skipped when
+// stability.relax_initial_overlaps is true, except for coincident centres). O(N) with a cell grid.
+void check_particles(const Scene& scene, const ParticleSet& particles);
+
+} // namespace cgdem
