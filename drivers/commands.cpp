@@ -1,0 +1,317 @@
+#include "drivers/commands.hpp"
+#include <Kokkos_Core.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <unistd.h>
+#include "core/checkpoint.hpp"
+#include "core/result_writer.hpp"
+#include "core/time_step.hpp"
+#include "drivers/cli.hpp"
+#include "drivers/engine_setup.hpp"
+#include "drivers/particle_generation.hpp"
+#include "drivers/scene_parser.hpp"
+#include "kernels/engine.hpp"
+
+namespace cgdem {
+
+namespace {
+
+constexpr int exit_bad_input = 2;
+constexpr int exit_blow_up = 3;
+
+bool wants_help(const std::vector<std::string>& args) {
+  for (const auto& a : args)
+    if (a == "--help" || a == "-h") return true;
+  return false;
+}
+
+// Kokkos comes up once per process with the requested threads (OpenMP cannot be resized later).
+struct KokkosSession {
+  explicit KokkosSession(int threads) {
+    // Pinned threads keep each particle range on one core (and quiet Kokkos' warning); users may override.
+    setenv("OMP_PROC_BIND", "spread", 0);
+    setenv("OMP_PLACES", "threads", 0);
+    Kokkos::InitArguments init;
+    if (threads > 0) init.num_threads = threads;
+    Kokkos::initialize(init);
+  }
+  ~KokkosSession() { Kokkos::finalize(); }
+};
+
+std::string default_backend() { return compiled_backends().front(); }
+
+int backend_threads(const std::string& backend) {
+#if defined(KOKKOS_ENABLE_OPENMP)
+  if (backend == "openmp") return Kokkos::OpenMP::concurrency();
+#endif
+  return 1;
+}
+
+// Everything 'run' and 'check' share: parse, generate, validate, estimate the step, configure.
+struct PreparedRun {
+  Scene scene;
+  ParticleSet particles;
+  TimeStepEstimate dt;
+  EngineConfig config;
+};
+
+PreparedRun prepare(const RunOptions& o) {
+  PreparedRun p;
+  p.scene = parse_scene_file(o.scene, o.overrides);
+  p.particles = generate_particles(p.scene);
+  check_particles(p.scene, p.particles);
+  p.dt = estimate_time_step(p.scene, p.particles);
+  if (p.scene.time.step > 0 && p.scene.time.step > p.dt.limit && !p.scene.time.force_step) {
+    std::ostringstream what, fix;
+    what << "step " << p.scene.time.step << " s is above the stable limit " << p.dt.limit << " s ("
+         << p.dt.reason.substr(p.dt.reason.find("from ") + 5);
+    fix << "use 'step: auto', a step <= " << p.dt.limit << " s, or set time.force_step: true to run it anyway";
+    throw SceneError(scene_error_message(p.scene.source_file, "time.step", what.str(), fix.str()));
+  }
+  p.config = make_engine_config(p.scene, p.particles, p.dt);
+  return p;
+}
+
+std::string human_bytes(double b) {
+  const char* unit[] = {"B", "KiB", "MiB", "GiB"};
+  int u = 0;
+  while (b >= 1024 && u < 3) {
+    b /= 1024;
+    ++u;
+  }
+  char s[32];
+  std::snprintf(s, sizeof s, "%.1f %s", b, unit[u]);
+  return s;
+}
+
+std::string human_duration(double s) {
+  char buf[32];
+  if (s < 120) std::snprintf(buf, sizeof buf, "%.0f s", s);
+  else if (s < 7200) std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
+  else std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
+  return buf;
+}
+
+SeriesRow series_row(const Observables& o) {
+  SeriesRow r;
+  r.time = o.time;
+  r.step = o.step;
+  r.kinetic_energy = o.kinetic_energy;
+  r.rotational_energy = o.rotational_energy;
+  r.contacts = o.contacts;
+  r.wall_force = o.wall_force;
+  return r;
+}
+
+std::string checkpoint_path_for(const std::string& h5) {
+  std::filesystem::path p(h5);
+  return (p.parent_path() / (p.stem().string() + ".checkpoint.h5")).string();
+}
+
+} // namespace
+
+int run_command(const std::vector<std::string>& args) {
+  if (wants_help(args)) {
+    std::cout << run_help();
+    return 0;
+  }
+  RunOptions o;
+  try {
+    o = parse_run_options(args, true);
+  } catch (const CliError& e) {
+    std::cerr << "cgdem run: " << e.what() << "\n";
+    return exit_bad_input;
+  }
+  KokkosSession kokkos(o.threads);
+  const std::string backend = o.backend.empty() ? default_backend() : o.backend;
+  PreparedRun p;
+  std::unique_ptr<Engine> engine;
+  CheckpointData restart;
+  try {
+    p = prepare(o);
+    engine = make_engine(p.config, backend);
+    if (!o.restart.empty()) restart = read_checkpoint(o.restart);
+  } catch (const SceneError& e) {
+    std::cerr << "cgdem: " << e.what() << "\n";
+    return exit_bad_input;
+  } catch (const std::exception& e) {
+    std::cerr << "cgdem: " << o.scene << ": " << e.what() << "\n";
+    return exit_bad_input;
+  }
+  if (!o.restart.empty()) engine->restore(restart);
+
+  const double dt = p.dt.step;
+  const long end_step = static_cast<long>(std::ceil(p.scene.time.end / dt - 1e-9));
+  const long frame_every = p.scene.output.every > 0 ? std::max(1L, std::lround(p.scene.output.every / dt)) : end_step;
+  const long checkpoint_every = o.checkpoint_every > 0 ? std::max(1L, std::lround(o.checkpoint_every / dt)) : 0;
+  const std::string out = o.out.empty() ? p.scene.output.file : o.out;
+
+  RunInfo info;
+  info.cgdem_version = CGDEM_VERSION;
+  info.scene_yaml = p.scene.resolved_yaml;
+  info.backend = backend;
+  info.threads = backend_threads(backend);
+  info.time_step = dt;
+  info.scaling_law = p.scene.groups.empty() ? "none" : p.scene.groups.front().coarse_grain.law;
+  info.scale_factor = p.scene.groups.empty() ? 1.0 : p.scene.groups.front().coarse_grain.factor;
+  info.wall_names = p.config.wall_names;
+  ResultWriter writer(out, info, p.scene.output.fields);
+
+  const int n = engine->size();
+  std::fprintf(stderr, "cgdem %s: %s, %d particles, %s on %s (%d threads), dt = %.4g s (%s)\n", CGDEM_VERSION,
+               o.scene.c_str(), n, engine->physics().c_str(), backend.c_str(), info.threads, dt, p.dt.reason.c_str());
+  auto emit = [&]() {
+    Observables obs = engine->observe();
+    writer.write_frame(engine->frame());
+    writer.write_series(series_row(obs));
+    return obs;
+  };
+  emit();
+
+  using clock = std::chrono::steady_clock;
+  const auto start = clock::now();
+  auto last_progress = start;
+  const long first_step = engine->step();
+  bool stopped_early = false;
+  const bool interactive = isatty(fileno(stderr));
+  try {
+    while (engine->step() < end_step) {
+      long next = std::min(end_step, (engine->step() / frame_every + 1) * frame_every);
+      if (checkpoint_every > 0) next = std::min(next, (engine->step() / checkpoint_every + 1) * checkpoint_every);
+      // Progress at most every ~second even between frames: advance in slices.
+      const long slice = std::max(1L, std::min(next - engine->step(), 2000000L / std::max(1, n) + 1));
+      engine->advance(std::min(slice, next - engine->step()));
+      const long s = engine->step();
+      if (s % frame_every == 0 || s == end_step) {
+        const Observables obs = emit();
+        if (p.scene.stop.kinetic_energy_below > 0 && obs.time >= p.scene.stop.min_time &&
+            obs.kinetic_energy < p.scene.stop.kinetic_energy_below) {
+          std::fprintf(stderr, "\nstop: kinetic energy %.3g J below %.3g J at t = %.4g s\n", obs.kinetic_energy,
+                       p.scene.stop.kinetic_energy_below, obs.time);
+          stopped_early = true;
+          break;
+        }
+      }
+      if (checkpoint_every > 0 && s % checkpoint_every == 0) write_checkpoint(checkpoint_path_for(out), engine->checkpoint());
+      const auto now = clock::now();
+      // A terminal gets a line rewritten every second; a log file a new line every 10 seconds.
+      if (!o.quiet && std::chrono::duration<double>(now - last_progress).count() > (interactive ? 1.0 : 10.0)) {
+        last_progress = now;
+        const double wall = std::chrono::duration<double>(now - start).count();
+        const double rate = double(s - first_step) * n / wall;
+        const double eta = double(end_step - s) * n / rate;
+        std::fprintf(stderr, "%s  t = %.4g / %.4g s  step %ld / %ld  %.3g particle-steps/s  ETA %s   %s",
+                     interactive ? "\r" : "", s * dt, p.scene.time.end, s, end_step, rate, human_duration(eta).c_str(),
+                     interactive ? "" : "\n");
+      }
+    }
+  } catch (const BlowUpError& e) {
+    writer.flush();
+    std::fprintf(stderr, "\ncgdem: %s\n", e.what());
+    return exit_blow_up;
+  }
+  writer.flush();
+  const double wall = std::chrono::duration<double>(clock::now() - start).count();
+  const long steps = engine->step() - first_step;
+  const StepTimers t = engine->timers();
+  const double timed = t.integrate + t.binning + t.neighbor_list + t.forces;
+  const Observables last = engine->observe();
+  if (interactive) std::fprintf(stderr, "\r%100s\r", "");
+  std::fprintf(stderr,
+               "done%s: %ld steps of %d particles in %s: %.3g particle-steps/s\n"
+               "  time split: forces %.0f%%, neighbour list %.0f%%, binning+reorder %.0f%%, integration %.0f%% "
+               "(%ld list builds)\n"
+               "  final: t = %.4g s, kinetic energy %.4g J, %ld contacts\n"
+               "  wrote %s (%lld frames) and %s\n",
+               stopped_early ? " (stop condition)" : "", steps, n, human_duration(wall).c_str(),
+               steps * double(n) / wall, 100 * t.forces / timed, 100 * t.neighbor_list / timed,
+               100 * t.binning / timed, 100 * t.integrate / timed, t.list_builds, last.time, last.kinetic_energy,
+               last.contacts, writer.path().c_str(), static_cast<long long>(writer.frames_written()),
+               writer.xdmf_path().c_str());
+  return 0;
+}
+
+int check_command(const std::vector<std::string>& args) {
+  if (wants_help(args)) {
+    std::cout << check_help();
+    return 0;
+  }
+  RunOptions o;
+  try {
+    o = parse_run_options(args, false);
+  } catch (const CliError& e) {
+    std::cerr << "cgdem check: " << e.what() << "\n";
+    return exit_bad_input;
+  }
+  KokkosSession kokkos(1);
+  try {
+    const PreparedRun p = prepare(o);
+    const std::string physics = physics_name(p.scene.contact);
+    bool compiled = false;
+    for (const auto& c : compiled_physics()) compiled = compiled || c == physics;
+    if (!compiled) {
+      std::string list;
+      for (const auto& c : compiled_physics()) list += " " + c;
+      throw SceneError(scene_error_message(p.scene.source_file, "contact",
+                                           "the combination '" + physics + "' is not compiled",
+                                           "choose one of:" + list));
+    }
+    std::printf("scene        %s\n", o.scene.c_str());
+    std::printf("physics      %s (%s)\n", physics.c_str(),
+                p.scene.contact.wall_adhesion ? "same law on walls" : "walls without adhesion");
+    std::printf("time step    %.4g s: %s\n", p.dt.step, p.dt.reason.c_str());
+    std::printf("             Rayleigh time %.4g s, shortest contact time %.4g s, %.0f steps per contact\n",
+                p.dt.rayleigh_time, p.dt.contact_time, p.dt.contact_time / p.dt.step);
+    std::printf("end time     %.4g s = %.0f steps\n", p.scene.time.end, std::ceil(p.scene.time.end / p.dt.step));
+    std::printf("particles    %zu\n", p.particles.size());
+    for (std::size_t g = 0; g < p.scene.groups.size(); ++g) {
+      std::size_t count = 0;
+      for (int gi : p.particles.group) count += gi == static_cast<int>(g);
+      const auto& cg = p.scene.groups[g].coarse_grain;
+      std::printf("  group %-10s %zu particles, material %s, coarse-graining %s (k = %g)\n",
+                  p.scene.groups[g].name.c_str(), count, p.scene.groups[g].material.c_str(), cg.law.c_str(), cg.factor);
+    }
+    std::printf("walls        %zu named, %zu parts\n", p.config.wall_names.size(), p.config.walls.size());
+    std::printf("skin         %.4g m\n", p.config.skin);
+    // Store twice (reorder double buffer), list with two generations, ~14 neighbours per particle.
+    const double n = static_cast<double>(p.particles.size());
+    const double store = 2 * n * (8 + 21 * 8 + 4 * 8 + 5 * 4);
+    const double list = 2 * 1.2 * n * 14 * (4 + 8 * 3) + 2 * n * 4;
+    std::printf("memory       about %s (particles %s, neighbour lists and history %s)\n", human_bytes(store + list).c_str(),
+                human_bytes(store).c_str(), human_bytes(list).c_str());
+    return 0;
+  } catch (const SceneError& e) {
+    std::cerr << "cgdem: " << e.what() << "\n";
+    return exit_bad_input;
+  } catch (const std::exception& e) {
+    std::cerr << "cgdem: " << o.scene << ": " << e.what() << "\n";
+    return exit_bad_input;
+  }
+}
+
+int info_command(const std::vector<std::string>& args) {
+  if (wants_help(args)) {
+    std::cout << info_help();
+    return 0;
+  }
+  int threads = 0;
+  for (std::size_t k = 0; k + 1 < args.size(); ++k)
+    if (args[k] == "--threads") threads = std::atoi(args[k + 1].c_str());
+  KokkosSession kokkos(threads);
+  std::printf("cgdem %s\n", CGDEM_VERSION);
+  std::printf("Kokkos %d.%d.%d\n", KOKKOS_VERSION / 10000, KOKKOS_VERSION / 100 % 100, KOKKOS_VERSION % 100);
+  std::printf("backends:");
+  for (const auto& b : compiled_backends()) std::printf(" %s (%d threads)", b.c_str(), backend_threads(b));
+  std::printf("\ndefault backend: %s\n", default_backend().c_str());
+  std::printf("compiled contact laws (normal[+adhesion][+tangential][+rolling]):\n");
+  for (const auto& c : compiled_physics()) std::printf("  %s\n", c.c_str());
+  std::printf("force accumulation: full neighbour list, per-particle gather (deterministic on every backend)\n");
+  return 0;
+}
+
+} // namespace cgdem

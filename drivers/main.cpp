@@ -1,0 +1,22 @@
+// cgdem: the batch executable. Dispatches to the commands in drivers/commands.cpp.
+#include <cstring>
+#include <iostream>
+#include <string>
+#include <vector>
+#include "drivers/cli.hpp"
+#include "drivers/commands.hpp"
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+    std::cout << cgdem::main_help();
+    return argc < 2 ? 2 : 0;
+  }
+  if (!std::strcmp(argv[1], "--version")) argv[1] = const_cast<char*>("info");
+  const std::string command = argv[1];
+  const std::vector<std::string> args(argv + 2, argv + argc);
+  if (command == "run") return cgdem::run_command(args);
+  if (command == "check") return cgdem::check_command(args);
+  if (command == "info") return cgdem::info_command(args);
+  std::cerr << "cgdem: unknown command '" << command << "'; commands: run, check, info (see cgdem --help)\n";
+  return 2;
+}
