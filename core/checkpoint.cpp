@@ -59,7 +59,8 @@ void check(herr_t r, const std::string& what) {
 
 class Hid {
 public:
-  Hid(hid_t id, herr_t (*closer)(hid_t), const std::string& what) : id_(check_id(id, what)), closer_(closer) {}
+  Hid(hid_t id, herr_t (*closer)(hid_t), const std::string& what)
+      : id_(check_id(id, what)), closer_(closer) {}
   Hid(Hid&& o) noexcept : id_(o.id_), closer_(o.closer_) { o.id_ = -1; }
   Hid(const Hid&) = delete;
   Hid& operator=(const Hid&) = delete;
@@ -118,7 +119,8 @@ void check_name(const std::string& kind, const std::string& name) {
 void write_array(hid_t group, const std::string& name, hid_t file_type, hid_t mem_type, const void* data,
                  std::size_t n, bool scalar) {
   hsize_t dims[1] = {hsize_t(n)};
-  Hid space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, dims, nullptr), H5Sclose, "create dataspace");
+  Hid space(scalar ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, dims, nullptr), H5Sclose,
+            "create dataspace");
   Hid ds(H5Dcreate2(group, name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
          "create dataset " + name);
   if (n > 0) check(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "write dataset " + name);
@@ -139,7 +141,8 @@ std::vector<std::string> list_names(hid_t group) {
 
 // Reads a dataset stored with exactly the given class and size (no conversion but byte order).
 template <class T>
-std::vector<T> read_array(hid_t group, const std::string& name, H5T_class_t cls, hid_t mem_type, bool scalar) {
+std::vector<T> read_array(hid_t group, const std::string& name, H5T_class_t cls, hid_t mem_type,
+                          bool scalar) {
   Hid ds(H5Dopen2(group, name.c_str(), H5P_DEFAULT), H5Dclose, "open dataset " + name);
   Hid ft(H5Dget_type(ds), H5Tclose, "get type of " + name);
   if (H5Tget_class(ft) != cls || H5Tget_size(ft) != sizeof(T))
@@ -188,7 +191,8 @@ void write_file(const std::string& p, const CheckpointData& d) {
     Hid reals(H5Gcreate2(file, "reals", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "create /reals");
     for (const auto& kv : d.reals) {
       check_name("real array", kv.first);
-      write_array(reals, kv.first, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, kv.second.data(), kv.second.size(), false);
+      write_array(reals, kv.first, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, kv.second.data(), kv.second.size(),
+                  false);
     }
     Hid ints(H5Gcreate2(file, "ints", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose, "create /ints");
     for (const auto& kv : d.ints) {

@@ -62,7 +62,9 @@ std::string h5_detail() {
   return out.empty() ? std::string() : " (" + out + ")";
 }
 
-[[noreturn]] void h5_fail(const std::string& what) { throw std::runtime_error(what + h5_detail()); }
+[[noreturn]] void h5_fail(const std::string& what) {
+  throw std::runtime_error(what + h5_detail());
+}
 
 hid_t check_id(hid_t id, const std::string& what) {
   if (id < 0) h5_fail(what);
@@ -76,7 +78,8 @@ void check(herr_t r, const std::string& what) {
 class Hid {
 public:
   Hid() = default;
-  Hid(hid_t id, herr_t (*closer)(hid_t), const std::string& what) : id_(check_id(id, what)), closer_(closer) {}
+  Hid(hid_t id, herr_t (*closer)(hid_t), const std::string& what)
+      : id_(check_id(id, what)), closer_(closer) {}
   Hid(Hid&& o) noexcept : id_(o.id_), closer_(o.closer_) { o.id_ = -1; }
   Hid& operator=(Hid&& o) noexcept {
     std::swap(id_, o.id_);
@@ -147,7 +150,8 @@ void write_dataset(hid_t loc, const char* name, hid_t file_type, hid_t mem_type,
   Hid space(H5Screate_simple(cols ? 2 : 1, dims, nullptr), H5Sclose, "create dataspace");
   Hid ds(H5Dcreate2(loc, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
          std::string("create dataset ") + name);
-  if (rows > 0) check(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), std::string("write ") + name);
+  if (rows > 0)
+    check(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), std::string("write ") + name);
 }
 
 Hid open_or_create_group(hid_t loc, const char* name) {
@@ -197,7 +201,9 @@ void append_row(hid_t loc, const std::string& name, hsize_t rows, hid_t mem_type
 // ---------------------------------------------------------------------------------------------------
 // POSIX helpers.
 
-[[noreturn]] void sys_fail(const std::string& what) { throw std::runtime_error(what + ": " + std::strerror(errno)); }
+[[noreturn]] void sys_fail(const std::string& what) {
+  throw std::runtime_error(what + ": " + std::strerror(errno));
+}
 
 void fsync_path(const std::string& p, bool directory) {
   int fd = ::open(p.c_str(), directory ? (O_RDONLY | O_DIRECTORY) : O_RDONLY);
@@ -299,12 +305,23 @@ std::string xml_escape(const std::string& s) {
   std::string o;
   for (char c : s) {
     switch (c) {
-    case '&': o += "&amp;"; break;
-    case '<': o += "&lt;"; break;
-    case '>': o += "&gt;"; break;
-    case '"': o += "&quot;"; break;
-    case '\'': o += "&apos;"; break;
-    default: o += c;
+    case '&':
+      o += "&amp;";
+      break;
+    case '<':
+      o += "&lt;";
+      break;
+    case '>':
+      o += "&gt;";
+      break;
+    case '"':
+      o += "&quot;";
+      break;
+    case '\'':
+      o += "&apos;";
+      break;
+    default:
+      o += c;
     }
   }
   return o;
@@ -330,27 +347,38 @@ struct FieldInfo {
   int bytes;
 };
 constexpr FieldInfo kFields[] = {
-    {F_POSITION, "position", 3, false, 8}, {F_VELOCITY, "velocity", 3, false, 8},
-    {F_ANGULAR_VELOCITY, "angular_velocity", 3, false, 8}, {F_RADIUS, "radius", 0, false, 8},
-    {F_MASS, "mass", 0, false, 8}, {F_ID, "id", 0, true, 8}, {F_GROUP, "group", 0, true, 4},
+    {F_POSITION, "position", 3, false, 8},
+    {F_VELOCITY, "velocity", 3, false, 8},
+    {F_ANGULAR_VELOCITY, "angular_velocity", 3, false, 8},
+    {F_RADIUS, "radius", 0, false, 8},
+    {F_MASS, "mass", 0, false, 8},
+    {F_ID, "id", 0, true, 8},
+    {F_GROUP, "group", 0, true, 4},
 };
 constexpr unsigned kAlwaysWritten = F_ID | F_POSITION | F_RADIUS;
 
 std::size_t field_size(const FrameData& f, Field bit) {
   switch (bit) {
-  case F_ID: return f.id.size();
-  case F_POSITION: return f.position.size();
-  case F_VELOCITY: return f.velocity.size();
-  case F_ANGULAR_VELOCITY: return f.angular_velocity.size();
-  case F_RADIUS: return f.radius.size();
-  case F_MASS: return f.mass.size();
-  case F_GROUP: return f.group.size();
+  case F_ID:
+    return f.id.size();
+  case F_POSITION:
+    return f.position.size();
+  case F_VELOCITY:
+    return f.velocity.size();
+  case F_ANGULAR_VELOCITY:
+    return f.angular_velocity.size();
+  case F_RADIUS:
+    return f.radius.size();
+  case F_MASS:
+    return f.mass.size();
+  case F_GROUP:
+    return f.group.size();
   }
   return 0;
 }
 
-const char* const kBuiltinSeries[] = {"time", "step", "kinetic_energy", "rotational_energy", "contacts",
-                                      "wall_force"};
+const char* const kBuiltinSeries[] = {"time",     "step",      "kinetic_energy", "rotational_energy",
+                                      "contacts", "wall_force"};
 
 bool is_builtin_series(const std::string& k) {
   for (const char* b : kBuiltinSeries)
@@ -360,7 +388,8 @@ bool is_builtin_series(const std::string& k) {
 
 std::string join(const std::vector<std::string>& v) {
   std::string s;
-  for (std::size_t i = 0; i < v.size(); ++i) s += (i ? "," : "") + v[i];
+  for (std::size_t i = 0; i < v.size(); ++i)
+    s += (i ? "," : "") + v[i];
   return s;
 }
 
@@ -431,9 +460,11 @@ struct ResultWriter::Impl {
       Hid series = open_or_create_group(file, "series");
       for (const char* n : {"time", "kinetic_energy", "rotational_energy"})
         create_series_dataset(series, n, H5T_IEEE_F64LE, 0, 0);
-      for (const char* n : {"step", "contacts"}) create_series_dataset(series, n, H5T_STD_I64LE, 0, 0);
+      for (const char* n : {"step", "contacts"})
+        create_series_dataset(series, n, H5T_STD_I64LE, 0, 0);
       Hid walls = open_or_create_group(series, "wall_force");
-      for (const auto& w : info.wall_names) create_series_dataset(walls, w.c_str(), H5T_IEEE_F64LE, 0, 3);
+      for (const auto& w : info.wall_names)
+        create_series_dataset(walls, w.c_str(), H5T_IEEE_F64LE, 0, 3);
     }
     set_attr(file, "frames_complete", std::int64_t(0));
     set_attr(file, "series_complete", std::int64_t(0));
@@ -452,13 +483,27 @@ struct ResultWriter::Impl {
       if (!(fields & fi.bit)) continue;
       const void* data = nullptr;
       switch (fi.bit) {
-      case F_ID: data = f.id.data(); break;
-      case F_POSITION: data = f.position.data(); break;
-      case F_VELOCITY: data = f.velocity.data(); break;
-      case F_ANGULAR_VELOCITY: data = f.angular_velocity.data(); break;
-      case F_RADIUS: data = f.radius.data(); break;
-      case F_MASS: data = f.mass.data(); break;
-      case F_GROUP: data = f.group.data(); break;
+      case F_ID:
+        data = f.id.data();
+        break;
+      case F_POSITION:
+        data = f.position.data();
+        break;
+      case F_VELOCITY:
+        data = f.velocity.data();
+        break;
+      case F_ANGULAR_VELOCITY:
+        data = f.angular_velocity.data();
+        break;
+      case F_RADIUS:
+        data = f.radius.data();
+        break;
+      case F_MASS:
+        data = f.mass.data();
+        break;
+      case F_GROUP:
+        data = f.group.data();
+        break;
       }
       hid_t ft = fi.integer ? (fi.bytes == 8 ? H5T_STD_I64LE : H5T_STD_I32LE) : H5T_IEEE_F64LE;
       hid_t mt = fi.integer ? (fi.bytes == 8 ? H5T_NATIVE_INT64 : H5T_NATIVE_INT32) : H5T_NATIVE_DOUBLE;
@@ -496,7 +541,8 @@ struct ResultWriter::Impl {
     }
     for (const auto& kv : r.analyses) {
       bool found = false;
-      for (const auto& e : existing) found = found || e == kv.first;
+      for (const auto& e : existing)
+        found = found || e == kv.first;
       if (found) continue;
       create_series_dataset(series, kv.first.c_str(), H5T_IEEE_F64LE, 0, 0); // earlier rows: NaN fill
       append_row(series, kv.first, rows, H5T_NATIVE_DOUBLE, &kv.second);
@@ -554,11 +600,13 @@ struct ResultWriter::Impl {
         << "        <Time Value=\"" << tbuf << "\"/>\n"
         << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << m.n
         << "\" NodesPerElement=\"1\"/>\n"
-        << "        <Geometry GeometryType=\"XYZ\">\n          " << item(kFields[0]) << "\n        </Geometry>\n";
+        << "        <Geometry GeometryType=\"XYZ\">\n          " << item(kFields[0])
+        << "\n        </Geometry>\n";
       for (const auto& fi : kFields) {
         if (fi.bit == F_POSITION || !(fields & fi.bit)) continue;
-        x << "        <Attribute Name=\"" << fi.name << "\" AttributeType=\"" << (fi.cols ? "Vector" : "Scalar")
-          << "\" Center=\"Node\">\n          " << item(fi) << "\n        </Attribute>\n";
+        x << "        <Attribute Name=\"" << fi.name << "\" AttributeType=\""
+          << (fi.cols ? "Vector" : "Scalar") << "\" Center=\"Node\">\n          " << item(fi)
+          << "\n        </Attribute>\n";
       }
       x << "      </Grid>\n";
     }
@@ -676,7 +724,8 @@ std::string xdmf_path_for(const std::string& h5_path) {
   return (has_ext ? h5_path.substr(0, dot) : h5_path) + ".xdmf";
 }
 
-ResultWriter::ResultWriter(const std::string& h5_path, const RunInfo& info, const std::vector<std::string>& fields)
+ResultWriter::ResultWriter(const std::string& h5_path, const RunInfo& info,
+                           const std::vector<std::string>& fields)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.path = h5_path;
@@ -782,8 +831,12 @@ std::int64_t ResultWriter::frames_written() const {
   return impl_->frames_visible;
 }
 
-const std::string& ResultWriter::path() const { return impl_->path; }
-const std::string& ResultWriter::xdmf_path() const { return impl_->xdmf; }
+const std::string& ResultWriter::path() const {
+  return impl_->path;
+}
+const std::string& ResultWriter::xdmf_path() const {
+  return impl_->xdmf;
+}
 
 void ResultWriter::set_before_write_hook(std::function<void()> hook) {
   std::lock_guard<std::mutex> lk(impl_->mu);
