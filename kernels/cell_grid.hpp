@@ -64,7 +64,7 @@ struct CellBins {
     auto start = cell_start;
     auto fill = cell_fill;
     auto ord = order;
-    Kokkos::deep_copy(fill, 0);
+    Kokkos::deep_copy(ExecSpace(), fill, 0);
     Kokkos::parallel_for(
         "cgdem::kernels::bin_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           const int c = grid.cell_of(Vec3{position(i, 0), position(i, 1), position(i, 2)});
@@ -78,7 +78,7 @@ struct CellBins {
           if (final) start(c) = partial;
           partial += cnt;
         });
-    Kokkos::deep_copy(fill, 0);
+    Kokkos::deep_copy(ExecSpace(), fill, 0);
     Kokkos::parallel_for(
         "cgdem::kernels::bin_fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           const int c = cell_of(i);

@@ -48,6 +48,7 @@ class Simulation final : public Engine {
         throw std::invalid_argument(msg.str());
       }
     identity_ = Kokkos::View<int*, Mem>("cgdem::kernels::identity", n_);
+    old_index_ = Kokkos::View<int*, Mem>("cgdem::kernels::old_index", n_);
     auto id = identity_;
     Kokkos::parallel_for("cgdem::kernels::iota", Kokkos::RangePolicy<ExecSpace>(0, n_), KOKKOS_LAMBDA(int i) { id(i) = i; });
     if (!cfg_.walls.empty())
@@ -136,6 +137,7 @@ class Simulation final : public Engine {
   CellBins<ExecSpace> bins_;
   CellGrid grid_;
   Kokkos::View<int*, Mem> identity_;
+  Kokkos::View<int*, Mem> old_index_;  // new -> old index of the last reorder (history transfer)
   Real cutoff_extra_ = 0;
   long builds_ = 0;
   long step_ = 0;

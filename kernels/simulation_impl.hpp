@@ -77,8 +77,9 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
   if (reorder) {
     // Keep the sort order as the map new index -> old index for the history transfer, then rebin in
     // the new order (cheap, and keeps binning and listing independent of whether we reordered).
-    old_index = Kokkos::View<int*, Mem>("cgdem::kernels::old_index", n_);
-    Kokkos::deep_copy(old_index, Kokkos::subview(bins_.order, std::make_pair(0, n_)));
+    old_index = Kokkos::subview(bins_.order, std::make_pair(0, n_));
+    Kokkos::deep_copy(ExecSpace(), old_index_, old_index);
+    old_index = old_index_;
     permute_store<ExecSpace>(store_, scratch_, old_index, n_);
     permute_rows<ExecSpace>(wall_history_, wall_history_scratch_, old_index, n_);
     std::swap(store_, scratch_);
@@ -89,7 +90,7 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
   timers_.binning += timer.seconds();
   timer.reset();
   nl_.build(cfg_.domain, grid_, bins_, store_.position, store_.radius, cutoff_extra_, n_, old_index, !first);
-  Kokkos::deep_copy(store_.position_at_build, store_.position);
+  Kokkos::deep_copy(ExecSpace(), store_.position_at_build, store_.position);
   Kokkos::fence();
   timers_.neighbor_list += timer.seconds();
   ++builds_;

@@ -1,0 +1,337 @@
+// The cgdem executable end to end: bad input (exit 2, one line, no output file), --set, restart
+// bitwise, SIGKILL leaves readable frames, bitwise identical trajectories on 1 and 2 OpenMP threads and
+// Serial, and the HDF5/XDMF contract of a real run.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <thread>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  fs::path dir;
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("cgdem_cli_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+           std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+
+  Result cgdem(const std::string& args) {
+    const std::string cmd = "cd '" + dir.string() + "' && OMP_PROC_BIND=false '" CGDEM_BINARY "' " + args +
+                            " > stdout.txt 2> stderr.txt";
+    const int status = std::system(cmd.c_str());
+    Result r;
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    r.out = slurp(dir / "stdout.txt");
+    r.err = slurp(dir / "stderr.txt");
+    return r;
+  }
+  void write(const std::string& name, const std::string& text) { std::ofstream(dir / name) << text; }
+};
+
+// A small, real scene: 500 beads dropped on a floor in a periodic box (about 2 s of CPU).
+const char* drop_scene = R"(domain:
+  lo: [0, 0, 0]
+  hi: [0.01, 0.01, 0.03]
+  periodic: [true, true, false]
+gravity: [0, 0, -9.81]
+materials:
+  beads:
+    density: 2500
+    youngs_modulus: 5.0e6
+    poisson_ratio: 0.3
+    restitution: 0.7
+    friction: 0.4
+contact:
+  normal: hertz
+groups:
+  - name: lattice
+    material: beads
+    count: 500
+    size: {radius: 0.0005}
+    placement:
+      type: lattice
+      lo: [0, 0, 0.001]
+      hi: [0.01, 0.01, 0.02]
+      spacing: 0.00105
+    velocity: [0, 0, -0.3]
+walls:
+  - name: floor
+    type: plane
+    material: beads
+    point: [0, 0, 0]
+    normal: [0, 0, 1]
+time:
+  end: 0.04
+  step: 5.0e-6
+output:
+  every: 0.01
+  file: drop.h5
+)";
+
+std::vector<double> read_doubles(hid_t file, const std::string& path) {
+  hid_t d = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  if (d < 0) return {};
+  hid_t s = H5Dget_space(d);
+  const hssize_t n = H5Sget_simple_extent_npoints(s);
+  std::vector<double> v(n);
+  H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(s);
+  H5Dclose(d);
+  return v;
+}
+
+std::vector<hsize_t> shape(hid_t file, const std::string& path) {
+  hid_t d = H5Dopen2(file, path.c_str(), H5P_DEFAULT);
+  if (d < 0) return {};
+  hid_t s = H5Dget_space(d);
+  std::vector<hsize_t> dims(H5Sget_simple_extent_ndims(s));
+  H5Sget_simple_extent_dims(s, dims.data(), nullptr);
+  H5Sclose(s);
+  H5Dclose(d);
+  return dims;
+}
+
+int frame_count(hid_t file) {
+  hid_t g = H5Gopen2(file, "/frames", H5P_DEFAULT);
+  H5G_info_t info;
+  H5Gget_info(g, &info);
+  H5Gclose(g);
+  return static_cast<int>(info.nlinks);
+}
+
+std::string last_frame(hid_t file) {
+  char name[32];
+  std::snprintf(name, sizeof name, "/frames/%06d", frame_count(file) - 1);
+  return name;
+}
+
+} // namespace
+
+TEST_F(CliTest, BadInputGivesOneLineExitTwoAndNoOutput) {
+  write("base.yaml", drop_scene);
+  write("overlap.csv", "id,x,y,z,radius\n1,0.005,0.005,0.005,0.0005\n2,0.005,0.005,0.0058,0.0005\n");
+  struct Case {
+    const char* what;
+    std::string set;     // --set override applied to the good scene
+    const char* expect;  // text the message must contain
+  };
+  const std::vector<Case> cases = {
+      {"unknown key", "--set materials.beads.youngs_modulos=5e6", "did you mean 'youngs_modulus'"},
+      {"wrong type", "--set materials.beads.density=heavy", "materials.beads.density"},
+      {"negative radius", "--set groups.0.size.radius=-0.001", "radius"},
+      {"zero density", "--set materials.beads.density=0", "density"},
+      {"poisson ratio", "--set materials.beads.poisson_ratio=0.7", "poisson_ratio"},
+      {"restitution", "--set materials.beads.restitution=1.5", "restitution"},
+      {"particle outside the domain", "--set groups.0.placement.hi=[0.01,0.01,0.05]", "domain"},
+      {"initial overlaps", "--set 'groups.0={name: g, material: beads, placement: {type: file, file: overlap.csv}}'", "overlap"},
+      {"unreadable particle file", "--set 'groups.0={name: g, material: beads, placement: {type: file, file: missing.csv}}'",
+       "missing.csv"},
+      {"time step above the stable limit", "--set time.step=1e-4", "time.step"},
+  };
+  for (const Case& c : cases) {
+    const Result r = cgdem("run base.yaml --out bad.h5 " + c.set);
+    EXPECT_EQ(r.code, 2) << c.what << ": " << r.err;
+    EXPECT_NE(r.err.find(c.expect), std::string::npos) << c.what << ": " << r.err;
+    EXPECT_NE(r.err.find("base.yaml"), std::string::npos) << c.what << " names the file: " << r.err;
+    EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.what << " is one line: " << r.err;
+    EXPECT_FALSE(fs::exists(dir / "bad.h5")) << c.what;
+    EXPECT_FALSE(fs::exists(dir / "bad.xdmf")) << c.what;
+  }
+  // Missing required key: remove the materials' density by rewriting the scene.
+  std::string text = drop_scene;
+  text.erase(text.find("    density: 2500\n"), std::string("    density: 2500\n").size());
+  write("nodensity.yaml", text);
+  const Result r = cgdem("run nodensity.yaml --out bad.h5");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("density"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "bad.h5"));
+}
+
+TEST_F(CliTest, SetOverridesNestedKeysAndListItems) {
+  write("base.yaml", drop_scene);
+  Result r = cgdem("check base.yaml --set groups.0.count=123 --set materials.beads.youngs_modulus=5e7");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("particles    123"), std::string::npos) << r.out;
+  // A stiffer material shortens the contact and so the stable limit printed by check.
+  const Result soft = cgdem("check base.yaml --set time.step=auto");
+  r = cgdem("check base.yaml --set time.step=auto --set materials.beads.youngs_modulus=5e8");
+  std::smatch ms, mh;
+  const std::regex step("time step +([0-9.e+-]+) s");
+  ASSERT_TRUE(std::regex_search(soft.out, ms, step)) << soft.out;
+  ASSERT_TRUE(std::regex_search(r.out, mh, step)) << r.out;
+  EXPECT_LT(std::stod(mh[1]), std::stod(ms[1]));
+  r = cgdem("check base.yaml --set 'walls.0.motion={velocity: [0,0,0.01]}' --set walls.0.motion.start=0.01");
+  EXPECT_EQ(r.code, 0) << r.err;
+  r = cgdem("check base.yaml --set groups.3.count=10");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("groups.3"), std::string::npos) << r.err;
+}
+
+TEST_F(CliTest, RestartFromCheckpointEqualsUninterruptedRunBitwise) {
+  write("base.yaml", drop_scene);
+  ASSERT_EQ(cgdem("run base.yaml --quiet --threads 1 --out full.h5").code, 0);
+  // Same run with a checkpoint at 0.02 s, then a continuation from it.
+  ASSERT_EQ(cgdem("run base.yaml --quiet --threads 1 --out half.h5 --checkpoint-every 0.02").code, 0);
+  ASSERT_TRUE(fs::exists(dir / "half.checkpoint.h5"));
+  // The checkpoint holds the last multiple of 0.02 s: the end (0.04 s). Take one from mid-run instead.
+  ASSERT_EQ(cgdem("run base.yaml --quiet --threads 1 --out mid.h5 --set time.end=0.02 --checkpoint-every 0.02").code, 0);
+  const Result r = cgdem("run base.yaml --quiet --threads 2 --out cont.h5 --restart mid.checkpoint.h5");
+  ASSERT_EQ(r.code, 0) << r.err;
+  hid_t a = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t b = H5Fopen((dir / "cont.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  for (const char* field : {"position", "velocity", "angular_velocity"}) {
+    const auto x = read_doubles(a, last_frame(a) + "/" + field);
+    const auto y = read_doubles(b, last_frame(b) + "/" + field);
+    ASSERT_EQ(x.size(), 1500u);
+    EXPECT_TRUE(x == y) << field << " differs after restart";  // bitwise
+  }
+  H5Fclose(a);
+  H5Fclose(b);
+}
+
+TEST_F(CliTest, SigkillMidRunLeavesEveryCompletedFrameReadable) {
+  write("base.yaml", drop_scene);
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    for (const char* f : {"killed.h5", "killed.xdmf", "killed.h5.shadow"}) fs::remove(dir / f);
+    const pid_t pid = fork();
+    if (pid == 0) {
+      chdir(dir.c_str());
+      freopen("/dev/null", "w", stderr);
+      execl(CGDEM_BINARY, CGDEM_BINARY, "run", "base.yaml", "--quiet", "--threads", "1", "--out", "killed.h5", "--set",
+            "output.every=0.0005", "--set", "time.end=1.0", static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    // Wait until the XDMF lists a few frames, then kill at a different moment each attempt.
+    for (int wait = 0; wait < 600; ++wait) {
+      const std::string x = slurp(dir / "killed.xdmf");
+      std::size_t grids = 0;
+      for (std::size_t at = x.find("<Grid Name=\"frame"); at != std::string::npos; at = x.find("<Grid Name=\"frame", at + 1)) ++grids;
+      if (grids >= 3) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(37 * attempt * attempt));
+    kill(pid, SIGKILL);
+    int status = 0;
+    waitpid(pid, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "the run should still have been going";
+    // Every frame the file says is complete reads back with the right shapes and finite data.
+    hid_t f = H5Fopen((dir / "killed.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(f, 0) << "killed file does not open";
+    std::int64_t complete = 0;
+    hid_t attr = H5Aopen(f, "frames_complete", H5P_DEFAULT);
+    ASSERT_GE(attr, 0);
+    H5Aread(attr, H5T_NATIVE_INT64, &complete);
+    H5Aclose(attr);
+    EXPECT_GE(complete, 3) << "attempt " << attempt;
+    for (std::int64_t k = 0; k < complete; ++k) {
+      char name[64];
+      std::snprintf(name, sizeof name, "/frames/%06lld/position", static_cast<long long>(k));
+      const auto x = read_doubles(f, name);
+      ASSERT_EQ(x.size(), 1500u) << name;
+      for (double v : x) ASSERT_TRUE(std::isfinite(v));
+    }
+    H5Fclose(f);
+  }
+}
+
+TEST_F(CliTest, SameTrajectoryBitwiseOnOneAndTwoThreadsAndSerial) {
+  // The shared dense bed (10k particles), 1000 steps with the benchmark material.
+  std::string scene = R"(domain: {lo: [0, 0, 0], hi: [0.02031, 0.02031, 0.04], periodic: [true, true, false]}
+gravity: [0, 0, -9.81]
+materials:
+  beads: {density: 2500, youngs_modulus: 5.0e6, poisson_ratio: 0.3, restitution: 0.9, friction: 0.3}
+contact: {normal: hertz, tangential: mindlin}
+groups:
+  - name: bed
+    material: beads
+    placement: {type: file, file: )" CGDEM_SHARED_DIR R"(/data/settled_bed_10k.csv}
+walls:
+  - {name: floor, type: plane, material: beads, point: [0, 0, 0], normal: [0, 0, 1]}
+time: {end: 0.01, step: 1.0e-5}
+output: {every: 0.01, file: bed.h5}
+stability: {overlap_tolerance: 0.05}
+)";
+  // Shake the bed so that the lists are rebuilt and particles reordered during the 1000 steps.
+  scene += "";
+  write("bed.yaml", scene);
+  const std::string shake = " --set 'walls.0.motion={velocity: [0,0,0.05]}'";
+  ASSERT_EQ(cgdem("run bed.yaml --quiet --threads 1 --out t1.h5" + shake).code, 0);
+  ASSERT_EQ(cgdem("run bed.yaml --quiet --threads 2 --out t2.h5" + shake).code, 0);
+  ASSERT_EQ(cgdem("run bed.yaml --quiet --backend serial --out serial.h5" + shake).code, 0);
+  auto final_state = [&](const char* file) {
+    hid_t f = H5Fopen((dir / file).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    std::vector<double> all;
+    for (const char* field : {"position", "velocity", "angular_velocity"}) {
+      auto v = read_doubles(f, last_frame(f) + "/" + field);
+      all.insert(all.end(), v.begin(), v.end());
+    }
+    H5Fclose(f);
+    return all;
+  };
+  const auto one = final_state("t1.h5"), two = final_state("t2.h5"), serial = final_state("serial.h5");
+  ASSERT_EQ(one.size(), 90000u);
+  EXPECT_TRUE(one == two) << "1 vs 2 OpenMP threads differ";
+  EXPECT_TRUE(one == serial) << "OpenMP vs Serial differ";
+}
+
+TEST_F(CliTest, OutputFollowsTheHdf5AndXdmfContract) {
+  write("base.yaml", drop_scene);
+  const Result r = cgdem("run base.yaml --quiet --threads 1");
+  ASSERT_EQ(r.code, 0) << r.err;
+  hid_t f = H5Fopen((dir / "drop.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0);
+  for (const char* a : {"cgdem_version", "scene", "backend", "threads", "time_step", "scaling_law", "scale_factor"})
+    EXPECT_GT(H5Aexists(f, a), 0) << a;
+  const int frames = frame_count(f);
+  EXPECT_GE(frames, 5);
+  for (const char* ds : {"id", "radius", "mass", "group"}) EXPECT_EQ(shape(f, "/frames/000001/" + std::string(ds)), std::vector<hsize_t>{500}) << ds;
+  for (const char* ds : {"position", "velocity", "angular_velocity"})
+    EXPECT_EQ(shape(f, "/frames/000001/" + std::string(ds)), (std::vector<hsize_t>{500, 3})) << ds;
+  for (const char* ds : {"time", "step", "kinetic_energy", "rotational_energy", "contacts"})
+    EXPECT_EQ(shape(f, "/series/" + std::string(ds)), std::vector<hsize_t>{hsize_t(frames)}) << ds;
+  EXPECT_EQ(shape(f, "/series/wall_force/floor"), (std::vector<hsize_t>{hsize_t(frames), 3}));
+  // The landed beads push the floor down.
+  const auto wf = read_doubles(f, "/series/wall_force/floor");
+  EXPECT_LT(wf[3 * (frames - 1) + 2], 0);
+  // Every dataset the XDMF names exists with the stated dimensions.
+  const std::string xdmf = slurp(dir / "drop.xdmf");
+  const std::regex item("Dimensions=\"([0-9 ]+)\"[^>]*>\\s*drop\\.h5:([^<\\s]+)\\s*<");
+  int checked = 0;
+  for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), item); it != std::sregex_iterator(); ++it) {
+    std::vector<hsize_t> dims;
+    std::istringstream ds((*it)[1].str());
+    for (hsize_t d; ds >> d;) dims.push_back(d);
+    EXPECT_EQ(shape(f, (*it)[2].str()), dims) << (*it)[2].str();
+    ++checked;
+  }
+  EXPECT_GE(checked, 2 * frames);
+  H5Fclose(f);
+}
