@@ -42,6 +42,7 @@ struct ContactForces {
           const Real mi = p.mass(i);
           const int mat_i = p.material(i);
           const Real vol_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
+          const Real scale_i = p.scale_factor(i);
           Vec3 f, t;
           int contacts = 0, wall_contacts = 0;
           Real h[H > 0 ? H : 1];
@@ -82,6 +83,8 @@ struct ContactForces {
             st.volume_i = vol_i;
             st.volume_j = (4.0 / 3.0) * math::pi * rj * rj * rj;
             st.dt = dt;
+            st.scale_i = scale_i;
+            st.scale_j = p.scale_factor(j);
             if constexpr (H > 0)
               for (int k = 0; k < H; ++k) h[k] = history(s, k);
             const models::ContactForce cf = law(pair_params(mat_i, p.material(j)), st, h);
@@ -117,6 +120,8 @@ struct ContactForces {
               st.volume_i = vol_i;
               st.volume_j = 0;
               st.dt = dt;
+              st.scale_i = scale_i;
+              st.scale_j = 0;
               if constexpr (H > 0)
                 for (int k = 0; k < H; ++k) h[k] = wall_history(i, w * H + k);
               const models::ContactForce cf = law(wall_params(mat_i, wall.material), st, h);

@@ -24,6 +24,10 @@ struct PairState {
   Real volume_i = 0;         // particle volumes (liquid bridge volume)
   Real volume_j = 0;
   Real dt = 0;
+  // Coarse-graining factors k of the two particles (1: original size; scale_j = 0 for a wall). Read by
+  // the direct force scaling wrappers (models/scaling/); plain contact laws ignore them.
+  Real scale_i = 1;
+  Real scale_j = 1;
 };
 
 struct ContactForce {
