@@ -30,21 +30,32 @@ def main(h5_path, png_path):
     speed = np.linalg.norm(v, axis=1)
     fig, axes = plt.subplots(1, 3, figsize=(15, 4.8), gridspec_kw={"width_ratios": [1.3, 1, 1.1]})
 
-    def view(ax, a, b, label):
-        order = np.argsort(x[:, 1] if label == "side" else x[:, 2])  # paint far particles first
-        # Marker area in points^2 from the radius in data units (approximate, for the axis extent).
-        span = max(np.ptp(x[:, a]), np.ptp(x[:, b]), 1e-12)
-        size = (r[order] / span * 72 * 4.5) ** 2 * 3.1
-        sc = ax.scatter(x[order, a] * 1e3, x[order, b] * 1e3, s=size, c=speed[order], cmap="viridis",
-                        edgecolors="none")
+    from matplotlib.collections import EllipseCollection
+
+    def view(ax, a, b, label, keep):
+        # Circles drawn to scale (data units); the side view is a slice through the middle so the
+        # profile of a pile or bed shows, the top view shows everything from above.
+        idx = np.nonzero(keep)[0]
+        idx = idx[np.argsort(x[idx, 3 - a - b])]
+        d = 2e3 * r[idx]
+        col = EllipseCollection(d, d, np.zeros_like(d), units="xy", offsets=np.c_[x[idx, a], x[idx, b]] * 1e3,
+                                offset_transform=ax.transData, cmap="viridis")
+        col.set_array(speed[idx])
+        col.set_clim(0, max(speed.max(), 1e-12))
+        ax.add_collection(col)
+        pad = 2e3 * r.max()
+        ax.set_xlim(x[:, a].min() * 1e3 - pad, x[:, a].max() * 1e3 + pad)
+        ax.set_ylim(x[:, b].min() * 1e3 - pad, x[:, b].max() * 1e3 + pad)
         ax.set_aspect("equal")
         ax.set_xlabel("xyz"[a] + " (mm)")
         ax.set_ylabel("xyz"[b] + " (mm)")
-        ax.set_title(f"{label} view, t = {t:.3g} s, N = {len(r)}")
-        return sc
+        ax.set_title(f"{label}, t = {t:.3g} s")
+        return col
 
-    sc = view(axes[0], 0, 2, "side")
-    view(axes[1], 0, 1, "top")
+    middle = np.median(x[:, 1])
+    slab = np.abs(x[:, 1] - middle) < 3 * r.max()
+    sc = view(axes[0], 0, 2, f"side view, slice |y - {middle * 1e3:.1f} mm| < {3e3 * r.max():.1f} mm", slab)
+    view(axes[1], 0, 1, f"top view, all {len(r)} particles", np.ones(len(r), bool))
     fig.colorbar(sc, ax=axes[:2], label="speed (m/s)", shrink=0.8)
     ax = axes[2]
     if "time" in series:
