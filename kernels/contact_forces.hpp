@@ -55,9 +55,11 @@ struct ContactForces {
             const Real touch = ri + rj;
             const Real reach_ij = touch + reach;
             if (dist2 >= reach_ij * reach_ij || dist2 == 0) {
-              // Out of reach of every interaction: the pair's history (if any) starts over.
+              // Out of reach of every interaction: the pair's history (if any) starts over. Most listed
+              // pairs are not touching and already zero: read first, write only when needed.
               if constexpr (H > 0)
-                for (int k = 0; k < H; ++k) history(s, k) = 0;
+                for (int k = 0; k < H; ++k)
+                  if (history(s, k) != 0) history(s, k) = 0;
               continue;
             }
             const Real dist = math::sqrt(dist2);
