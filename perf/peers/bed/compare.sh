@@ -1,0 +1,161 @@
+#!/bin/bash
+# Side-by-side timing of cgdem, LIGGGHTS and LAMMPS on the shared settled beds (perf/peers/README.md).
+#
+#   compare.sh [--n 10k|50k|200k|all] [--runs R] [--steps S] [--codes "cgdem liggghts lammps"] [--out DIR]
+#
+# For each bed size: cgdem with 1 and 2 threads, LIGGGHTS and LAMMPS with mpirun -np 1 and -np 2, run
+# alternately (R rounds of all six, default 3), S steps each (default 2000, dt 1e-5 s). Setup is excluded:
+# cgdem's "particle-steps/s" summary times the stepping only, the peers' rate is atoms x steps / "Loop time".
+# Prints per code and thread/rank count the median and min-max of particle-steps/s, the peak memory per
+# particle (/usr/bin/time max RSS summed over ranks / N, whole process: includes the executable and
+# libraries), the contacts per particle at the end ((particle-particle + floor contacts) / N, cgdem's count
+# in /series/contacts), the ratios cgdem / peer at 1 and 2 threads/ranks and each code's 2-vs-1 speed-up.
+# Raw rows and logs go to DIR (default perf/peers/bed/work/compare-<date>/, git-ignored).
+# Environment: CGDEM (default build/cgdem), LIGGGHTS (liggghts), LMP (lmp), MPIRUN (mpirun),
+# MPIRUN_FLAGS (added to mpirun; --allow-run-as-root is added when running as root), LAMMPS_E (the LAMMPS
+# restitution input from impact/impact.sh, default 0.86212).
+set -euo pipefail
+HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+ROOT=$(cd "$HERE/../../.." && pwd)
+CGDEM=${CGDEM:-$ROOT/build/cgdem}
+LIGGGHTS=${LIGGGHTS:-liggghts}
+LMP=${LMP:-lmp}
+MPIRUN=${MPIRUN:-mpirun}
+LAMMPS_E=${LAMMPS_E:-0.86212}
+PY=/usr/bin/python3
+SIZES=10k
+RUNS=3
+STEPS=2000
+CODES="cgdem liggghts lammps"
+OUT=""
+CORES=$(getconf _NPROCESSORS_ONLN)
+while [ $# -gt 0 ]; do
+  case $1 in
+    --n) SIZES=$2; shift 2 ;;
+    --runs) RUNS=$2; shift 2 ;;
+    --steps) STEPS=$2; shift 2 ;;
+    --codes) CODES=$2; shift 2 ;;
+    --out) OUT=$2; shift 2 ;;
+    -h|--help) sed -n 2,19p "$0"; exit 0 ;;
+    *) echo "compare.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
+  esac
+done
+[ "$SIZES" = all ] && SIZES="10k 50k 200k"
+for n in $SIZES; do
+  case $n in 10k|50k|200k) ;; *) echo "compare.sh: --n must be 10k, 50k, 200k or all (got $n)" >&2; exit 2 ;; esac
+done
+MPI_FLAGS="${MPIRUN_FLAGS:---oversubscribe}"
+[ "$(id -u)" = 0 ] && MPI_FLAGS="$MPI_FLAGS --allow-run-as-root"
+export OMP_NUM_THREADS=1   # the peers are MPI-only here; keeps LAMMPS's OpenMP runtime from spreading out
+OUT=${OUT:-$HERE/work/compare-$(date +%Y%m%d-%H%M%S)}
+mkdir -p "$OUT"
+OUT=$(cd "$OUT" && pwd)
+ROWS=$OUT/runs.tsv
+# a private copy, so that a rebuild of build/ during the runs neither breaks nor changes them
+[ -x "$CGDEM" ] || { echo "compare.sh: no cgdem executable at $CGDEM (set CGDEM)" >&2; exit 2; }
+cp "$CGDEM" "$OUT/cgdem"
+CGDEM_SRC=$CGDEM
+CGDEM=$OUT/cgdem
+printf 'n\tcode\tpar\trun\tparticles\tpss\tmaxrss_kb\tcontacts\n' > "$ROWS"
+
+# particle files (git-ignored work/): data files for the peers, the 200k CSV for all
+prepare() {
+  local n=$1 csv
+  case $n in
+    10k) csv=/work/shared/data/settled_bed_10k.csv ;;
+    50k) csv=/work/shared/data/settled_bed_50k.csv ;;
+    200k) csv=$HERE/work/settled_bed_200k.csv
+          [ -s "$csv" ] || $PY "$HERE/beds.py" tile /work/shared/data/settled_bed_50k.csv "$csv" 2 2 ;;
+  esac
+  [ -s "$HERE/work/bed_$n.data" ] || $PY "$HERE/beds.py" data "$csv" "$HERE/work/bed_$n.data"
+}
+
+# sum of the max RSS files of one run (one per rank) in KB
+sum_rss() { cat "$@" | awk '/^[0-9]+$/ { s += $1 } END { print s + 0 }'; }
+
+run_cgdem() { # n threads run
+  local tag=$OUT/cgdem_$1_t$2_r$3
+  /usr/bin/time -f %M -o "$tag.rss" "$CGDEM" run "$HERE/bed_$1.yaml" --threads "$2" --quiet --out "$tag.h5" \
+    --set time.end="$($PY -c "print($STEPS * 1e-5)")" >"$tag.out" 2>"$tag.log" || { echo "cgdem failed: $tag.log" >&2; return 1; }
+  local pss np contacts
+  np=$(sed -n 's/^done: [0-9]* steps of \([0-9]*\) particles.*/\1/p' "$tag.log")
+  pss=$(sed -n 's/^done: .*: \([0-9.e+]*\) particle-steps\/s.*/\1/p' "$tag.log")
+  contacts=$($PY -c "import h5py; print(int(h5py.File('$tag.h5', 'r')['series/contacts'][-1]))")
+  rm -f "$tag.h5" "$tag.xdmf"
+  printf '%s\tcgdem\t%s\t%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$3" "$np" "$pss" "$(sum_rss "$tag.rss")" "$contacts" >> "$ROWS"
+}
+
+run_peer() { # code n ranks run
+  local code=$1 n=$2 np=$3 r=$4 bin input extra=()
+  local tag=$OUT/${code}_${n}_np${np}_r${r}
+  if [ "$code" = liggghts ]; then bin=$LIGGGHTS; input=$HERE/in.bed.liggghts
+  else bin=$LMP; input=$HERE/in.bed.lammps; extra=(-var e "$LAMMPS_E"); fi
+  rm -f "$tag.rss".*
+  # shellcheck disable=SC2086
+  (cd "$OUT" && $MPIRUN $MPI_FLAGS -np "$np" sh -c 'exec /usr/bin/time -f %M -o "$0.${OMPI_COMM_WORLD_RANK:-0}" "$@"' \
+      "$tag.rss" "$bin" -in "$input" -var data "$HERE/work/bed_$n.data" -var steps "$STEPS" "${extra[@]}" \
+      -echo none -log none >"$tag.log" 2>&1) || { echo "$code failed: $tag.log" >&2; return 1; }
+  # "Loop time of T on P procs for S steps with N atoms"; the thermo line of the last step: step atoms ke pairs floor
+  local row
+  row=$(awk -v s="$STEPS" '/^Loop time of/ { t = $4; st = $9; na = $12 }
+                           $1 == s && NF == 5 { c = $4 + $5 }
+                           END { if (t > 0) printf "%d\t%.6g\t%d", na, na * st / t, c }' "$tag.log")
+  [ -n "$row" ] || { echo "$code: no Loop time in $tag.log" >&2; return 1; }
+  local atoms pss contacts
+  IFS=$'\t' read -r atoms pss contacts <<<"$row"
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$n" "$code" "$np" "$r" "$atoms" "$pss" "$(sum_rss "$tag.rss".*)" "$contacts" >> "$ROWS"
+}
+
+{
+  echo "compare.sh: $(date -u '+%Y-%m-%d %H:%M UTC'), host $(hostname), $(lscpu | sed -n 's/^Model name: *//p'), $CORES cores"
+  echo "  load average at start: $(cut -d' ' -f1-3 /proc/loadavg); sizes: $SIZES; $RUNS runs x $STEPS steps; codes: $CODES"
+  echo "  cgdem: $CGDEM_SRC, $(cd "$ROOT" && git log -1 --format='%h %cd' --date=short 2>/dev/null) ($("$CGDEM" info 2>&1 | head -1))"
+  echo "  LIGGGHTS: $(dpkg-query -W -f '${Version}' liggghts 2>/dev/null || echo '?'); LAMMPS: $(dpkg-query -W -f '${Version}' lammps 2>/dev/null || echo '?') (restitution input $LAMMPS_E); $($MPIRUN --version 2>&1 | head -1)"
+} | tee "$OUT/header.txt"
+
+for n in $SIZES; do
+  prepare "$n"
+  for r in $(seq 1 "$RUNS"); do
+    for code in $CODES; do
+      for p in 1 2; do
+        if [ "$code" = cgdem ]; then run_cgdem "$n" "$p" "$r"; else run_peer "$code" "$n" "$p" "$r"; fi
+        tail -1 "$ROWS" | awk -F'\t' '{ printf "  %-5s %-8s x%s run %s: %.3g particle-steps/s, %.0f MB, %d contacts\n", $1, $2, $3, $4, $6, $7 / 1024, $8 }'
+      done
+    done
+  done
+done
+
+$PY - "$ROWS" <<'EOF' | tee "$OUT/summary.txt"
+import csv, statistics, sys
+rows = list(csv.DictReader(open(sys.argv[1]), delimiter="\t"))
+by = {}
+for r in rows:
+    by.setdefault((r["n"], r["code"], int(r["par"])), []).append(r)
+unit = {"cgdem": "threads", "liggghts": "ranks", "lammps": "ranks"}
+med = {}
+print()
+print(f"{'N':>5} {'code':<9} {'par':>10} {'median p-steps/s':>17} {'min - max':>21} {'B/particle':>11} {'contacts/particle':>18}")
+for key in sorted(by, key=lambda k: (["10k", "50k", "200k"].index(k[0]), ["cgdem", "liggghts", "lammps"].index(k[1]), k[2])):
+    rs = by[key]
+    pss = [float(r["pss"]) for r in rs]
+    npart = int(rs[0]["particles"])
+    rss = statistics.median(float(r["maxrss_kb"]) for r in rs) * 1024 / npart
+    cpp = sorted({int(r["contacts"]) / npart for r in rs})
+    med[key] = statistics.median(pss)
+    c = f"{cpp[0]:.4f}" if len(cpp) == 1 else f"{cpp[0]:.4f}-{cpp[-1]:.4f}"
+    print(f"{key[0]:>5} {key[1]:<9} {str(key[2]) + ' ' + unit[key[1]]:>10} {med[key]:>17.4g} "
+          f"{min(pss):>10.4g} - {max(pss):<8.4g} {rss:>11.0f} {c:>18}")
+print()
+for n in ["10k", "50k", "200k"]:
+    for peer in ["liggghts", "lammps"]:
+        parts = []
+        for p in (1, 2):
+            if (n, "cgdem", p) in med and (n, peer, p) in med:
+                parts.append(f"{p} thread/rank {med[(n, 'cgdem', p)] / med[(n, peer, p)]:.3f}")
+        if parts:
+            print(f"{n:>5} cgdem / {peer:<8}: " + ", ".join(parts))
+    for code in ["cgdem", "liggghts", "lammps"]:
+        if (n, code, 1) in med and (n, code, 2) in med:
+            print(f"{n:>5} 2-vs-1 speed-up {code:<8}: {med[(n, code, 2)] / med[(n, code, 1)]:.3f}")
+EOF
+echo "rows: $ROWS"
