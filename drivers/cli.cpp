@@ -55,6 +55,9 @@ Commands:
   run SCENE.yaml     simulate a scene; writes HDF5 + XDMF (open the .xdmf in ParaView)
   check SCENE.yaml   validate a scene and print its physics, time step, size and memory; no simulation
   info               version, Kokkos backends and the compiled contact laws
+  sweep SCENE.yaml   run a scene at several coarse-graining laws and scale factors against the k = 1
+                     reference: speed-up and error of each run (sweep.csv, sweep.h5, PNG plots)
+  stability SCENE.yaml  probe a range of time steps; largest stable step vs Rayleigh/contact time
 
 Run 'cgdem <command> --help' for the options of a command.
 
@@ -62,6 +65,7 @@ Examples:
   cgdem run scenes/pile_in_cylinder.yaml
   cgdem run scenes/pile_in_cylinder.yaml --set groups.0.count=1000 --threads 2 --out small.h5
   cgdem check scenes/rotating_drum.yaml
+  cgdem sweep sweeps/tiny_pile.yaml --laws chen_elliott,bond --k 1,2,3 --out tiny_sweep
 )";
 }
 

@@ -5,6 +5,8 @@
 #include <vector>
 #include "drivers/cli.hpp"
 #include "drivers/commands.hpp"
+#include "drivers/sweep_command.hpp"
+#include "drivers/stability_command.hpp"
 
 int main(int argc, char** argv) {
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
@@ -17,6 +19,8 @@ int main(int argc, char** argv) {
   if (command == "run") return cgdem::run_command(args);
   if (command == "check") return cgdem::check_command(args);
   if (command == "info") return cgdem::info_command(args);
-  std::cerr << "cgdem: unknown command '" << command << "'; commands: run, check, info (see cgdem --help)\n";
+  if (command == "sweep") return cgdem::sweep_command(args);
+  if (command == "stability") return cgdem::stability_command(args);
+  std::cerr << "cgdem: unknown command '" << command << "'; commands: run, check, info, sweep (see cgdem --help)\n";
   return 2;
 }
