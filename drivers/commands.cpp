@@ -11,6 +11,7 @@
 #include "core/checkpoint.hpp"
 #include "core/result_writer.hpp"
 #include "core/time_step.hpp"
+#include "drivers/analyses.hpp"
 #include "drivers/cli.hpp"
 #include "drivers/engine_setup.hpp"
 #include "drivers/particle_generation.hpp"
@@ -132,8 +133,10 @@ int run_command(const std::vector<std::string>& args) {
   PreparedRun p;
   std::unique_ptr<Engine> engine;
   CheckpointData restart;
+  std::vector<std::unique_ptr<Analysis>> analyses; // the scene's analyses: outputs go into each series row
   try {
     p = prepare(o);
+    analyses = make_analyses(p.scene);
     engine = make_engine(p.config, backend);
     if (!o.restart.empty()) restart = read_checkpoint(o.restart);
   } catch (const SceneError& e) {
@@ -167,8 +170,11 @@ int run_command(const std::vector<std::string>& args) {
                o.scene.c_str(), n, engine->physics().c_str(), backend.c_str(), info.threads, dt, p.dt.reason.c_str());
   auto emit = [&]() {
     Observables obs = engine->observe();
-    writer.write_frame(engine->frame());
-    writer.write_series(series_row(obs));
+    FrameData frame = engine->frame();
+    SeriesRow row = series_row(obs);
+    run_analyses(analyses, AnalysisInput{frame, obs.time, info.wall_names, obs.wall_force}, row.analyses);
+    writer.write_frame(std::move(frame));
+    writer.write_series(std::move(row));
     return obs;
   };
   emit();
@@ -251,6 +257,7 @@ int check_command(const std::vector<std::string>& args) {
   KokkosSession kokkos(1);
   try {
     const PreparedRun p = prepare(o);
+    make_analyses(p.scene); // validates the analyses (types, parameters, walls)
     const std::string physics = physics_name(p.scene.contact);
     bool compiled = false;
     for (const auto& c : compiled_physics()) compiled = compiled || c == physics;

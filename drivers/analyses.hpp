@@ -1,0 +1,130 @@
+#pragma once
+// On-the-fly analyses of a run (the scene's `analyses:` list, docs/sweeps.md): host-side computations on
+// the frame copy the engine hands to the writer at every output. Each analysis adds a few scalars to the
+// series row (/series/<name>, /series/<name>_<extra> in the HDF5 file); the first, /series/<name>, is its
+// main figure (the one a sweep compares). Some also append full profiles or distributions to a CSV file.
+//
+// Types and their main figure:
+//   angle_of_repose       static angle of a pile (degrees): least-squares line through the surface heights
+//                         of radial bins on the flank; extras: height, foot radius, r2, bins
+//   wall_stress           normal stress on a plane wall (Pa, compression positive) = -F.n / area;
+//                         extras: strain (wall displacement along its normal / initial height)
+//   unconfined_strength   peak of wall_stress so far (Pa); extras: strain at the peak, current stress, strain
+//   profile               porosity of a box region (slabs along an axis); extras: min/max slab porosity,
+//                         mean coordination number and its slab min/max
+//   velocity_distribution mean speed (m/s); extras: std, median, p90, max; optional CSV of the PDF
+//   drum_angle            dynamic angle of repose in a rotating drum (degrees): total least-squares plane
+//                         through the top particles of the bed, tilt in the drum's cross-section
+// The building blocks (fits, distances, profiles) are exposed for the unit tests and the sweep.
+#include <array>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+#include "core/frame.hpp"
+#include "core/scene.hpp"
+
+namespace cgdem {
+
+// What an analysis sees at one output.
+struct AnalysisInput {
+  const FrameData& frame;
+  double time = 0;
+  const std::vector<std::string>& wall_names;
+  const std::vector<double>& wall_force; // 3 per named wall: the force the particles exert on it
+};
+
+class Analysis {
+public:
+  Analysis(std::string name, std::string type) : name_(std::move(name)), type_(std::move(type)) {}
+  virtual ~Analysis() = default;
+  const std::string& name() const { return name_; }
+  const std::string& type() const { return type_; }
+  // Adds this analysis' outputs (name, name_<extra>) to `out`.
+  virtual void evaluate(const AnalysisInput& in, std::map<std::string, double>& out) = 0;
+  // Distribution analyses: the samples whose distribution they describe (speeds); others: empty.
+  virtual std::vector<double> samples(const FrameData&) const { return {}; }
+  virtual bool is_distribution() const { return false; }
+
+private:
+  std::string name_, type_;
+};
+
+const std::vector<std::string>& analysis_types();
+// Builds the scene's analyses; throws SceneError (one line naming analyses.N.key and the fix) on an unknown
+// type, a missing or malformed parameter, or a wall that does not exist.
+std::vector<std::unique_ptr<Analysis>> make_analyses(const Scene& scene);
+// Evaluates them all into `out`.
+void run_analyses(std::vector<std::unique_ptr<Analysis>>& analyses, const AnalysisInput& in,
+                  std::map<std::string, double>& out);
+
+// ---- building blocks ----
+
+struct LineFit {
+  double slope = 0, intercept = 0, r2 = 0;
+  std::size_t n = 0;
+};
+// Ordinary least squares y = intercept + slope x (Eigen); n < 2 gives a zero fit with n set.
+LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y);
+
+struct PlaneFit {
+  std::array<double, 3> normal{0, 0, 1}; // unit; sign chosen so that normal[2] >= 0
+  std::array<double, 3> centroid{0, 0, 0};
+  double rms = 0; // rms distance of the points from the plane
+  std::size_t n = 0;
+};
+// Total least squares plane through the points (smallest singular vector of the centred points).
+PlaneFit fit_plane(const std::vector<std::array<double, 3>>& points);
+
+struct PileFit {
+  double angle_deg = 0, height = 0, foot_radius = 0, r2 = 0;
+  std::size_t bins_used = 0;
+};
+// Pile on a floor at z = floor, around the vertical axis through (cx, cy). Particles `use` (all when empty)
+// are binned radially (width bin_width) and azimuthally (sectors); the surface height of a radial bin is the
+// mean over its non-empty sectors of the highest particle top (z + r). height = the highest top - floor.
+// The flank is the radial bins whose surface height is within [lo_frac, hi_frac] x height; the fit of
+// surface height against the bin's radius there gives the angle atan(-slope).
+PileFit pile_angle(const FrameData& f, const std::vector<char>& use, double cx, double cy, double floor,
+                   double bin_width, int sectors, double lo_frac, double hi_frac);
+
+struct DrumFit {
+  double angle_deg = 0, rms = 0;
+  std::size_t cells_used = 0;
+};
+// Bed in a drum: axis through `center` along `axis`, `up` = the upward direction (perpendicular to the
+// axis). Cross-section coordinates u = up x axis, v = up, w = axis. Cells of width cell_width in (u, w);
+// the top (v + r) of each cell's highest particle is a surface point; the cells whose u lies in the central
+// `fit_fraction` of the bed's u range are fitted with a plane; the angle is atan |dv/du|.
+DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, const std::array<double, 3>& axis,
+                   const std::array<double, 3>& up, double cell_width, double fit_fraction);
+
+// Distances between the empirical distributions of two samples (any order, any sizes > 0).
+double wasserstein1(std::vector<double> a, std::vector<double> b);
+double ks_distance(std::vector<double> a, std::vector<double> b);
+// Sorted copy; when longer than max_size, max_size evenly spaced quantiles (a faithful, bounded record).
+std::vector<double> quantile_samples(std::vector<double> v, std::size_t max_size);
+// Speeds |v| of the particles of a group (group < 0: all).
+std::vector<double> particle_speeds(const FrameData& f, int group);
+// Probability density of `v` on `bins` equal bins of [lo, hi] (values outside are left out of the counts
+// but not of the normalisation: the density integrates to the fraction inside).
+std::vector<double> probability_density(const std::vector<double>& v, double lo, double hi, int bins);
+
+struct Profile {
+  std::vector<double> lo, hi;       // slab bounds along the axis
+  std::vector<double> porosity;     // 1 - solid volume / slab volume
+  std::vector<double> coordination; // mean contacts per particle with its centre in the slab (0 if none)
+  std::vector<long> particles;      // particles with their centre in the slab
+  double porosity_total = 1;        // of the whole region
+  double coordination_mean = 0;     // over the particles in the region
+};
+// Slabs of the box region [lo, hi] along `axis` (0, 1, 2). Solid volume: each sphere whose centre lies in
+// the region's lateral bounds contributes the exact spherical segment inside each slab (its lateral
+// overhang is not clipped). Contacts: pairs with gap |xi - xj| - ri - rj below tolerance x the smaller
+// radius (all particles count as partners, inside the region or not). Periodic images are not considered.
+Profile axis_profile(const FrameData& f, int axis, const std::array<double, 3>& lo,
+                     const std::array<double, 3>& hi, int bins, double contact_tolerance);
+// Volume of the part of a sphere of radius r (centred at 0) between the planes z = a and z = b.
+double sphere_segment_volume(double r, double a, double b);
+
+} // namespace cgdem

@@ -1,0 +1,255 @@
+// Analyses (drivers/analyses.hpp) against synthetic data with known answers.
+#include <gtest/gtest.h>
+#include <cmath>
+#include <random>
+#include "drivers/analyses.hpp"
+#include "drivers/scene_parser.hpp"
+
+using namespace cgdem;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+void add(FrameData& f, double x, double y, double z, double r, double vx = 0, double vy = 0, double vz = 0) {
+  f.id.push_back(static_cast<std::int64_t>(f.id.size()) + 1);
+  f.position.insert(f.position.end(), {x, y, z});
+  f.velocity.insert(f.velocity.end(), {vx, vy, vz});
+  f.angular_velocity.insert(f.angular_velocity.end(), {0, 0, 0});
+  f.radius.push_back(r);
+  f.mass.push_back(1);
+  f.group.push_back(0);
+}
+
+// A cone of apex height h and slope angle `deg` on the floor z = 0: surface particles with their tops
+// exactly on the cone, plus random interior particles below it.
+FrameData cone(double deg, double h, double r, unsigned seed) {
+  FrameData f;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double t = std::tan(deg * kPi / 180), foot = h / t;
+  for (int k = 0; k < 20000; ++k) {
+    const double rho = foot * std::sqrt(u(rng)), phi = 2 * kPi * u(rng);
+    const double top = h - rho * t;
+    if (top < 2 * r) continue;
+    add(f, rho * std::cos(phi), rho * std::sin(phi), top - r, r);                    // on the surface
+    add(f, rho * std::cos(phi), rho * std::sin(phi), r + (top - 3 * r) * u(rng), r); // inside
+  }
+  return f;
+}
+
+} // namespace
+
+TEST(Analyses, LineFitExact) {
+  const LineFit f = fit_line({0, 1, 2, 3}, {1, 3, 5, 7});
+  EXPECT_NEAR(f.slope, 2, 1e-12);
+  EXPECT_NEAR(f.intercept, 1, 1e-12);
+  EXPECT_NEAR(f.r2, 1, 1e-12);
+}
+
+TEST(Analyses, ConeOfKnownAngle) {
+  for (double deg : {25.0, 35.0}) {
+    const FrameData f = cone(deg, 0.01, 0.0002, 7);
+    const PileFit fit = pile_angle(f, {}, 0, 0, 0, 0.0008, 8, 0.2, 0.8);
+    EXPECT_NEAR(fit.angle_deg, deg, 1.0) << "cone of " << deg << " degrees";
+    EXPECT_NEAR(fit.height, 0.01, 0.0003);
+    EXPECT_GE(fit.bins_used, 5u);
+    EXPECT_GT(fit.r2, 0.98);
+  }
+}
+
+TEST(Analyses, AngleOfReposeFromScene) {
+  Scene s = parse_scene_text(R"(domain: {lo: [-0.05, -0.05, 0], hi: [0.05, 0.05, 0.05]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses:
+  - type: angle_of_repose
+    name: pile
+    bin_width: 0.0008
+    center: [0, 0]
+    floor: 0
+)",
+                             "<test>");
+  auto list = make_analyses(s);
+  ASSERT_EQ(list.size(), 1u);
+  const FrameData f = cone(30, 0.01, 0.0002, 3);
+  std::vector<std::string> names;
+  std::vector<double> forces;
+  std::map<std::string, double> out;
+  run_analyses(list, AnalysisInput{f, 0.0, names, forces}, out);
+  EXPECT_NEAR(out.at("pile"), 30, 1.0);
+  EXPECT_NEAR(out.at("pile_height"), 0.01, 0.0003);
+  EXPECT_NEAR(out.at("pile_foot_radius"), 0.01 / std::tan(kPi / 6), 0.001);
+}
+
+TEST(Analyses, DistanceOfKnownPair) {
+  // Shifted copies: W1 = shift, KS = the mass passed over (1 of 4 points per half unit).
+  EXPECT_NEAR(wasserstein1({0, 1, 2, 3}, {0.5, 1.5, 2.5, 3.5}), 0.5, 1e-12);
+  EXPECT_NEAR(ks_distance({0, 1, 2, 3}, {0.5, 1.5, 2.5, 3.5}), 0.25, 1e-12);
+  EXPECT_NEAR(wasserstein1({1, 2}, {1, 2}), 0, 1e-15);
+  EXPECT_NEAR(ks_distance({1, 2}, {2, 1}), 0, 1e-15);
+  // Point masses: W1 is the distance, KS is 1.
+  EXPECT_NEAR(wasserstein1({0}, {3}), 3, 1e-12);
+  EXPECT_NEAR(ks_distance({0, 0}, {3}), 1, 1e-12);
+  // U(0,1) against U(0,2): W1 = int_0^1 |u - 2u| du = 1/2, KS = sup |x - x/2| = 1/2.
+  std::vector<double> a, b;
+  for (int i = 0; i < 4000; ++i) {
+    a.push_back((i + 0.5) / 4000);
+    b.push_back(2 * (i + 0.5) / 4000);
+  }
+  EXPECT_NEAR(wasserstein1(a, b), 0.5, 1e-3);
+  EXPECT_NEAR(ks_distance(a, b), 0.5, 1e-3);
+  // Quantile compression keeps the distances of a large sample.
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> g(1, 0.2);
+  std::vector<double> big, other;
+  for (int i = 0; i < 50000; ++i)
+    big.push_back(g(rng));
+  for (int i = 0; i < 50000; ++i)
+    other.push_back(g(rng) + 0.1);
+  const auto q = quantile_samples(big, 1000);
+  ASSERT_EQ(q.size(), 1000u);
+  EXPECT_NEAR(wasserstein1(q, other), wasserstein1(big, other), 2e-3);
+  EXPECT_NEAR(ks_distance(q, other), ks_distance(big, other), 2e-3);
+}
+
+TEST(Analyses, ProbabilityDensityIntegratesToOne) {
+  const auto pdf = probability_density({0.1, 0.2, 0.3, 0.9}, 0, 1, 10);
+  double sum = 0;
+  for (double p : pdf)
+    sum += p * 0.1;
+  EXPECT_NEAR(sum, 1, 1e-12);
+  EXPECT_NEAR(pdf[1], 2.5, 1e-12); // 1 of 4 samples in a bin 0.1 wide
+}
+
+TEST(Analyses, PlaneOfKnownTilt) {
+  std::vector<std::array<double, 3>> pts;
+  const double t = std::tan(20 * kPi / 180);
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 5; ++j)
+      pts.push_back({0.001 * i, 0.002 * j, 0.3 + 0.001 * i * t});
+  const PlaneFit p = fit_plane(pts);
+  EXPECT_NEAR(std::atan2(std::abs(p.normal[0]), p.normal[2]) * 180 / kPi, 20, 1e-9);
+  EXPECT_NEAR(p.rms, 0, 1e-12);
+}
+
+TEST(Analyses, DrumBedOfKnownTilt) {
+  // Drum along y through the origin, gravity -z: a bed below the line z = tan(28 deg) x - 0.004 (tops on it).
+  FrameData f;
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double t = std::tan(28 * kPi / 180), r = 0.0003, R = 0.02;
+  for (int k = 0; k < 30000; ++k) {
+    const double x = R * u(rng), y = 0.005 * u(rng);
+    const double surface = t * x - 0.004;
+    const double z_floor = -std::sqrt(std::max(0.0, R * R - x * x));
+    if (surface - 2 * r < z_floor) continue;
+    add(f, x, y, surface - r, r);
+    add(f, x, y, z_floor + r + (surface - z_floor - 2 * r) * 0.5 * (u(rng) + 1), r);
+  }
+  const DrumFit fit = drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.0012, 0.6);
+  EXPECT_NEAR(fit.angle_deg, 28, 1.0);
+  EXPECT_GT(fit.cells_used, 10u);
+}
+
+TEST(Analyses, LatticePorosityAndCoordination) {
+  // 5 x 5 x 5 touching spheres in a box that holds exactly their cubic cells: porosity 1 - pi/6 in
+  // every slab; coordination 6 inside, 6 - 6/5 = 4.8 on average.
+  FrameData f;
+  const double r = 0.001;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 5; ++k)
+        add(f, r + 2 * r * i, r + 2 * r * j, r + 2 * r * k, r);
+  const Profile p = axis_profile(f, 2, {0, 0, 0}, {0.01, 0.01, 0.01}, 5, 0.01);
+  for (int b = 0; b < 5; ++b)
+    EXPECT_NEAR(p.porosity[b], 1 - kPi / 6, 1e-12);
+  EXPECT_NEAR(p.porosity_total, 1 - kPi / 6, 1e-12);
+  EXPECT_NEAR(p.coordination_mean, 4.8, 1e-12);
+  EXPECT_NEAR(p.coordination[2], (9 * 6 + 12 * 5 + 4 * 4) / 25.0, 1e-12); // a middle layer
+  // Slabs cutting spheres in half: the segments add up to the same solid volume.
+  const Profile q = axis_profile(f, 2, {0, 0, 0}, {0.01, 0.01, 0.01}, 4, 0.01);
+  EXPECT_NEAR(q.porosity_total, 1 - kPi / 6, 1e-12);
+  EXPECT_NEAR(sphere_segment_volume(1, -1, 1), 4 * kPi / 3, 1e-12);
+  EXPECT_NEAR(sphere_segment_volume(1, 0, 5), 2 * kPi / 3, 1e-12);
+}
+
+TEST(Analyses, WallStressAndPeakStrength) {
+  Scene s = parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [0.01, 0.01, 0.02]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+walls:
+  - {name: floor, material: m}
+  - {name: piston, material: m, point: [0, 0, 0.01], normal: [0, 0, -1], motion: {velocity: [0, 0, -0.001], start: 0.5}}
+time: {end: 1}
+analyses:
+  - {type: wall_stress, name: s, wall: piston, area: 1e-4, initial_height: 0.01}
+  - {type: unconfined_strength, name: ucs, wall: piston, area: 1e-4, initial_height: 0.01}
+)",
+                             "<test>");
+  auto list = make_analyses(s);
+  FrameData f;
+  add(f, 0.005, 0.005, 0.005, 0.001);
+  const std::vector<std::string> names{"floor", "piston"};
+  std::map<std::string, double> out;
+  // The particles push the piston up (+z) with 2 N at t = 1.5: stress 2e4 Pa, strain 0.001 * 1 / 0.01.
+  run_analyses(list, AnalysisInput{f, 1.5, names, {0, 0, -2, 0, 0, 2}}, out);
+  EXPECT_NEAR(out.at("s"), 2e4, 1e-6);
+  EXPECT_NEAR(out.at("s_strain"), 0.1, 1e-12);
+  run_analyses(list, AnalysisInput{f, 2.0, names, {0, 0, -1, 0, 0, 1}}, out);
+  EXPECT_NEAR(out.at("ucs"), 2e4, 1e-6);
+  EXPECT_NEAR(out.at("ucs_peak_strain"), 0.1, 1e-12);
+  EXPECT_NEAR(out.at("ucs_stress"), 1e4, 1e-6);
+  EXPECT_NEAR(out.at("ucs_strain"), 0.15, 1e-12);
+}
+
+TEST(Analyses, VelocityDistributionSummaries) {
+  Scene s = parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses: [{type: velocity_distribution, name: v}]
+)",
+                             "<test>");
+  auto list = make_analyses(s);
+  ASSERT_TRUE(list[0]->is_distribution());
+  FrameData f;
+  add(f, 0.1, 0.1, 0.1, 0.001, 3, 4, 0); // speed 5
+  add(f, 0.2, 0.1, 0.1, 0.001, 0, 0, 1); // speed 1
+  std::map<std::string, double> out;
+  run_analyses(list, AnalysisInput{f, 0, {}, {}}, out);
+  EXPECT_NEAR(out.at("v"), 3, 1e-12);
+  EXPECT_NEAR(out.at("v_std"), 2, 1e-12);
+  EXPECT_NEAR(out.at("v_max"), 5, 1e-12);
+  const auto sp = list[0]->samples(f);
+  EXPECT_EQ(sp, (std::vector<double>{5, 1}));
+}
+
+TEST(Analyses, BadSpecsAreOneLineSceneErrors) {
+  const std::string base = R"(domain: {lo: [0, 0, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+walls: [{name: floor, material: m}]
+time: {end: 1}
+)";
+  auto error = [&](const std::string& analyses) {
+    try {
+      make_analyses(parse_scene_text(base + analyses, "s.yaml"));
+    } catch (const SceneError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(error("analyses: [{type: angle_of_repos}]").find("did you mean 'angle_of_repose'"),
+            std::string::npos);
+  EXPECT_NE(error("analyses: [{type: wall_stress, wall: roof, area: 1, initial_height: 1}]")
+                .find("analyses.0.wall"),
+            std::string::npos);
+  EXPECT_NE(error("analyses: [{type: wall_stress, wall: floor, initial_height: 1}]")
+                .find("missing parameter 'area'"),
+            std::string::npos);
+  EXPECT_NE(error("analyses: [{type: profile, binz: 3}]").find("unknown parameter 'binz'"),
+            std::string::npos);
+  EXPECT_NE(error("analyses: [{type: drum_angle, drum: floor}]").find("cylinder"), std::string::npos);
+}
