@@ -1,0 +1,801 @@
+#include "drivers/sweep_command.hpp"
+#include <fcntl.h>
+#include <hdf5.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+#include "core/result_writer.hpp"
+#include "drivers/analyses.hpp"
+#include "drivers/cli.hpp"
+#include "drivers/scene_parser.hpp"
+
+extern char** environ;
+
+namespace cgdem {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int exit_bad_input = 2;
+// Measured on the tiny scene (docs/sweeps.md, "Scheduling"): one single-threaded process per core beat one
+// run at a time on all threads.
+constexpr const char* kAutoPolicy = "parallel";
+constexpr std::size_t kMaxSamples = 2000;
+
+std::string fmt(double x) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%.17g", x);
+  return b;
+}
+
+std::string k_name(double k) {
+  char b[40];
+  std::snprintf(b, sizeof b, "%g", k);
+  return b;
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+// ---- HDF5: what a finished run's file says ----
+
+struct RunOutput {
+  long particles = 0, steps = 0;
+  int threads = 1;
+  double time_step = 0;
+  std::map<std::string, double> final_values;
+  FrameData last; // velocity and group of the last frame
+};
+
+struct H5 {
+  hid_t id;
+  herr_t (*close)(hid_t);
+  H5(hid_t i, herr_t (*c)(hid_t)) : id(i), close(c) {}
+  ~H5() {
+    if (id >= 0) close(id);
+  }
+  operator hid_t() const { return id; }
+};
+
+std::vector<double> read_doubles(hid_t loc, const std::string& name,
+                                 std::vector<hsize_t>* dims_out = nullptr) {
+  H5 ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose);
+  if (ds < 0) throw std::runtime_error("cannot open dataset " + name);
+  H5 space(H5Dget_space(ds), H5Sclose);
+  const int rank = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> dims(std::max(rank, 1), 1);
+  if (rank > 0) H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+  hsize_t n = 1;
+  for (int r = 0; r < rank; ++r)
+    n *= dims[r];
+  std::vector<double> v(n);
+  if (n > 0 && H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    throw std::runtime_error("cannot read dataset " + name);
+  if (dims_out) *dims_out = dims;
+  return v;
+}
+
+double read_attr(hid_t loc, const char* name, double fallback) {
+  if (H5Aexists(loc, name) <= 0) return fallback;
+  H5 a(H5Aopen(loc, name, H5P_DEFAULT), H5Aclose);
+  double v = fallback;
+  H5Aread(a, H5T_NATIVE_DOUBLE, &v);
+  return v;
+}
+
+std::vector<std::string> links(hid_t group) {
+  std::vector<std::string> names;
+  H5Literate(
+      group, H5_INDEX_NAME, H5_ITER_INC, nullptr,
+      [](hid_t, const char* name, const H5L_info_t*, void* d) -> herr_t {
+        static_cast<std::vector<std::string>*>(d)->push_back(name);
+        return 0;
+      },
+      &names);
+  return names;
+}
+
+RunOutput read_run_output(const std::string& path) {
+  std::lock_guard<std::mutex> lock(hdf5_mutex());
+  RunOutput o;
+  H5 file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+  if (file < 0) throw std::runtime_error("cannot open " + path);
+  o.time_step = read_attr(file, "time_step", 0);
+  o.threads = static_cast<int>(read_attr(file, "threads", 1));
+  H5 series(H5Gopen2(file, "series", H5P_DEFAULT), H5Gclose);
+  const std::set<std::string> builtin{"time",     "step",      "kinetic_energy", "rotational_energy",
+                                      "contacts", "wall_force"};
+  for (const auto& name : links(series)) {
+    if (builtin.count(name)) continue;
+    const auto v = read_doubles(series, name);
+    if (!v.empty()) o.final_values[name] = v.back();
+  }
+  const auto steps = read_doubles(series, "step");
+  if (steps.size() >= 2) o.steps = std::lround(steps.back() - steps.front());
+  H5 frames(H5Gopen2(file, "frames", H5P_DEFAULT), H5Gclose);
+  auto names = links(frames);
+  if (names.empty()) throw std::runtime_error(path + " has no frames");
+  std::sort(names.begin(), names.end());
+  H5 last(H5Gopen2(frames, names.back().c_str(), H5P_DEFAULT), H5Gclose);
+  std::vector<hsize_t> dims;
+  const auto id = read_doubles(last, "id", &dims);
+  o.particles = static_cast<long>(id.size());
+  o.last.id.assign(id.begin(), id.end());
+  if (H5Lexists(last, "velocity", H5P_DEFAULT) > 0) o.last.velocity = read_doubles(last, "velocity");
+  if (H5Lexists(last, "group", H5P_DEFAULT) > 0) {
+    const auto g = read_doubles(last, "group");
+    o.last.group.assign(g.begin(), g.end());
+  }
+  return o;
+}
+
+// ---- one run as a child process ----
+
+struct RunPlan {
+  std::string run, law;
+  double k = 1;
+  std::vector<std::string> sets; // the sweep's own --set overrides
+};
+
+std::string self_exe() {
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) throw std::runtime_error("cannot find the cgdem executable (/proc/self/exe)");
+  buf[n] = 0;
+  return buf;
+}
+
+// Runs argv in `dir` with stdout+stderr to `log`; returns the wait status. The child dies with the thread
+// that waits for it (PR_SET_PDEATHSIG), so killing the sweep leaves no orphan writing into a run directory.
+int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::string>& env,
+                   const std::string& dir, const std::string& log) {
+  std::vector<char*> a, e;
+  for (const auto& s : argv)
+    a.push_back(const_cast<char*>(s.c_str()));
+  a.push_back(nullptr);
+  for (const auto& s : env)
+    e.push_back(const_cast<char*>(s.c_str()));
+  e.push_back(nullptr);
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error(std::string("fork failed: ") + std::strerror(errno));
+  if (pid == 0) {
+    // Only async-signal-safe calls between fork and exec.
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);
+    if (chdir(dir.c_str()) != 0) _exit(127);
+    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+      close(fd);
+    }
+    execve(a[0], a.data(), e.data());
+    _exit(127);
+  }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  return status;
+}
+
+// "done...: S steps of N particles in T: R particle-steps/s" -> R (0 if absent).
+double engine_rate_from_log(const std::string& log) {
+  std::ifstream in(log);
+  std::string line;
+  double rate = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("done", 0) != 0) continue;
+    const auto end = line.find(" particle-steps/s");
+    const auto colon = line.rfind(": ", end);
+    if (end != std::string::npos && colon != std::string::npos)
+      rate = std::atof(line.substr(colon + 2).c_str());
+  }
+  return rate;
+}
+
+std::string tail(const std::string& log, std::size_t lines) {
+  std::ifstream in(log);
+  std::vector<std::string> all;
+  std::string line;
+  while (std::getline(in, line))
+    all.push_back(line);
+  std::string out;
+  for (std::size_t i = all.size() > lines ? all.size() - lines : 0; i < all.size(); ++i)
+    out += "    " + all[i] + "\n";
+  return out;
+}
+
+struct Sweep {
+  SweepOptions o;
+  Scene scene; // with the user's overrides
+  std::vector<std::unique_ptr<Analysis>> analyses;
+  std::string exe, scene_abs;
+  fs::path dir;
+  std::mutex print;
+  std::atomic<int> done{0};
+  int total = 0;
+
+  fs::path record_path(const std::string& run) const { return dir / "records" / (run + ".txt"); }
+
+  // Returns false when the child was killed (no record: the run is not complete).
+  bool execute(const RunPlan& plan, int threads, bool unpin) {
+    const fs::path rundir = dir / "runs" / plan.run;
+    fs::remove_all(rundir);
+    fs::create_directories(rundir);
+    const std::string h5 = (rundir / "run.h5").string(), log = (rundir / "log.txt").string();
+    std::vector<std::string> argv{exe,     "run", scene_abs, "--quiet", "--threads", std::to_string(threads),
+                                  "--out", h5};
+    for (const auto& s : o.overrides)
+      argv.insert(argv.end(), {"--set", s});
+    for (const auto& s : plan.sets)
+      argv.insert(argv.end(), {"--set", s});
+    std::vector<std::string> env;
+    for (char** e = environ; *e; ++e)
+      if (!unpin || std::strncmp(*e, "OMP_PROC_BIND=", 14) != 0) env.push_back(*e);
+    // One single-threaded run per core: Kokkos' default pinning would put them all on the first core.
+    if (unpin) env.push_back("OMP_PROC_BIND=false");
+    const auto start = std::chrono::steady_clock::now();
+    const int status = spawn_and_wait(argv, env, rundir.string(), log);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    RunRecord r;
+    r.run = plan.run;
+    r.law = plan.law;
+    r.k = plan.k;
+    r.threads = threads;
+    r.wall_time = wall;
+    if (!WIFEXITED(status)) {
+      std::lock_guard<std::mutex> lock(print);
+      std::fprintf(stderr, "sweep: run %s was killed (signal %d); it will run again next time\n",
+                   plan.run.c_str(), WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+      return false;
+    }
+    r.exit_code = WEXITSTATUS(status);
+    r.status = r.exit_code == 0 ? "ok" : "failed (exit " + std::to_string(r.exit_code) + ")";
+    if (r.exit_code == 0) {
+      try {
+        RunOutput out = read_run_output(h5);
+        r.particles = out.particles;
+        r.steps = out.steps;
+        r.time_step = out.time_step;
+        r.values = out.final_values;
+        r.particle_steps_per_s = wall > 0 ? double(r.steps) * r.particles / wall : 0;
+        r.engine_particle_steps_per_s = engine_rate_from_log(log);
+        for (const auto& a : analyses)
+          if (a->is_distribution())
+            r.samples[a->name()] = quantile_samples(a->samples(out.last), kMaxSamples);
+      } catch (const std::exception& e) {
+        r.status = std::string("failed (unreadable result: ") + e.what() + ")";
+        r.exit_code = -1;
+      }
+    }
+    write_record(record_path(plan.run).string(), r);
+    const int n = ++done;
+    std::lock_guard<std::mutex> lock(print);
+    if (r.exit_code != 0)
+      std::fprintf(stderr, "[%d/%d] %s: %s; last lines of %s:\n%s", n, total, plan.run.c_str(),
+                   r.status.c_str(), log.c_str(), tail(log, 4).c_str());
+    else if (!o.quiet)
+      std::fprintf(stderr, "[%d/%d] %-24s %7ld particles %8ld steps  %8.2f s  %.3g particle-steps/s\n", n,
+                   total, plan.run.c_str(), r.particles, r.steps, r.wall_time, r.particle_steps_per_s);
+    return true;
+  }
+};
+
+// ---- tables and plots ----
+
+struct Table {
+  std::vector<std::string> columns;
+  std::vector<std::vector<std::string>> text; // as written to the CSV
+  std::vector<std::vector<double>> numbers;   // NaN for text columns
+  std::vector<bool> is_text;
+};
+
+Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
+  Table t;
+  std::vector<std::string> metrics, dists;
+  for (const auto& kv : ref.values)
+    metrics.push_back(kv.first);
+  for (const auto& kv : ref.samples)
+    dists.push_back(kv.first);
+  t.columns = {"run",
+               "law",
+               "k",
+               "status",
+               "particles",
+               "steps",
+               "time_step",
+               "threads",
+               "wall_time_s",
+               "particle_steps_per_s",
+               "engine_particle_steps_per_s",
+               "speedup"};
+  for (const auto& m : metrics)
+    t.columns.push_back(m);
+  for (const auto& m : metrics)
+    t.columns.push_back("err_" + m);
+  for (const auto& d : dists)
+    t.columns.insert(t.columns.end(), {"w1_" + d, "ks_" + d});
+  for (const auto& c : t.columns)
+    t.is_text.push_back(c == "run" || c == "law" || c == "status");
+  const double nan = std::nan("");
+  for (const auto& row : rows) {
+    const RunRecord& r = row.record;
+    std::vector<double> v{nan,
+                          nan,
+                          r.k,
+                          nan,
+                          double(r.particles),
+                          double(r.steps),
+                          r.time_step,
+                          double(r.threads),
+                          r.wall_time,
+                          r.particle_steps_per_s,
+                          r.engine_particle_steps_per_s,
+                          row.speedup};
+    auto get = [&](const std::map<std::string, double>& m, const std::string& k) {
+      auto it = m.find(k);
+      return it == m.end() ? nan : it->second;
+    };
+    for (const auto& m : metrics)
+      v.push_back(get(r.values, m));
+    for (const auto& m : metrics)
+      v.push_back(get(row.error, m));
+    for (const auto& d : dists)
+      v.insert(v.end(), {get(row.w1, d), get(row.ks, d)});
+    std::vector<std::string> s;
+    for (std::size_t c = 0; c < v.size(); ++c) {
+      if (c == 0)
+        s.push_back(r.run);
+      else if (c == 1)
+        s.push_back(r.law);
+      else if (c == 3)
+        s.push_back(r.status);
+      else
+        s.push_back(std::isnan(v[c]) ? "" : fmt(v[c]));
+    }
+    t.numbers.push_back(v);
+    t.text.push_back(s);
+  }
+  return t;
+}
+
+void write_csv(const std::string& path, const Table& t) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    for (std::size_t c = 0; c < t.columns.size(); ++c)
+      out << (c ? "," : "") << t.columns[c];
+    out << "\n";
+    for (const auto& row : t.text) {
+      for (std::size_t c = 0; c < row.size(); ++c) {
+        std::string cell = row[c];
+        if (cell.find(',') != std::string::npos) cell = "\"" + cell + "\"";
+        out << (c ? "," : "") << cell;
+      }
+      out << "\n";
+    }
+  }
+  fs::rename(tmp, path);
+}
+
+void write_h5(const std::string& path, const Table& t, const SweepOptions& o, const std::string& policy) {
+  std::lock_guard<std::mutex> lock(hdf5_mutex());
+  const std::string tmp = path + ".tmp";
+  {
+    H5 file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    if (file < 0) throw std::runtime_error("cannot create " + tmp);
+    auto str_attr = [&](const char* name, const std::string& value) {
+      H5 type(H5Tcopy(H5T_C_S1), H5Tclose);
+      H5Tset_size(type, std::max<std::size_t>(1, value.size()));
+      H5 space(H5Screate(H5S_SCALAR), H5Sclose);
+      H5 a(H5Acreate2(file, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose);
+      H5Awrite(a, type, value.c_str());
+    };
+    str_attr("scene", o.scene);
+    str_attr("policy", policy);
+    std::string laws;
+    for (const auto& l : o.laws)
+      laws += (laws.empty() ? "" : ",") + l;
+    str_attr("laws", laws);
+    H5 runs(H5Gcreate2(file, "runs", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose);
+    const hsize_t n = t.text.size();
+    for (std::size_t c = 0; c < t.columns.size(); ++c) {
+      H5 space(H5Screate_simple(1, &n, nullptr), H5Sclose);
+      if (t.is_text[c]) {
+        std::size_t width = 1;
+        for (const auto& row : t.text)
+          width = std::max(width, row[c].size());
+        std::vector<char> buf(n * width, 0);
+        for (hsize_t r = 0; r < n; ++r)
+          std::memcpy(&buf[r * width], t.text[r][c].data(), t.text[r][c].size());
+        H5 type(H5Tcopy(H5T_C_S1), H5Tclose);
+        H5Tset_size(type, width);
+        H5 ds(H5Dcreate2(runs, t.columns[c].c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+              H5Dclose);
+        if (n) H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, buf.data());
+      } else {
+        std::vector<double> col;
+        for (const auto& row : t.numbers)
+          col.push_back(row[c]);
+        H5 ds(H5Dcreate2(runs, t.columns[c].c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT,
+                         H5P_DEFAULT),
+              H5Dclose);
+        if (n) H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, col.data());
+      }
+    }
+  }
+  fs::rename(tmp, path);
+}
+
+} // namespace
+
+// ---- records ----
+
+void write_record(const std::string& path, const RunRecord& r) {
+  std::ostringstream s;
+  s << "run " << r.run << "\nlaw " << r.law << "\nk " << fmt(r.k) << "\nstatus " << r.status << "\nexit_code "
+    << r.exit_code << "\nthreads " << r.threads << "\nparticles " << r.particles << "\nsteps " << r.steps
+    << "\ntime_step " << fmt(r.time_step) << "\nwall_time_s " << fmt(r.wall_time) << "\nparticle_steps_per_s "
+    << fmt(r.particle_steps_per_s) << "\nengine_particle_steps_per_s " << fmt(r.engine_particle_steps_per_s)
+    << "\n";
+  for (const auto& kv : r.values)
+    s << "value " << kv.first << " " << fmt(kv.second) << "\n";
+  for (const auto& kv : r.samples) {
+    s << "samples " << kv.first;
+    for (double x : kv.second)
+      s << " " << fmt(x);
+    s << "\n";
+  }
+  const std::string text = s.str();
+  const std::string tmp = path + ".tmp";
+  fs::create_directories(fs::path(path).parent_path());
+  const int fd = open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot write " + tmp);
+  std::size_t off = 0;
+  while (off < text.size()) {
+    const ssize_t w = write(fd, text.data() + off, text.size() - off);
+    if (w <= 0) {
+      close(fd);
+      throw std::runtime_error("cannot write " + tmp);
+    }
+    off += static_cast<std::size_t>(w);
+  }
+  fsync(fd);
+  close(fd);
+  fs::rename(tmp, path); // atomic: the record is either absent or complete
+}
+
+RunRecord read_record(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read record " + path);
+  RunRecord r;
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string key;
+    ls >> key;
+    auto rest = [&]() {
+      std::string v;
+      std::getline(ls, v);
+      return v.empty() ? v : v.substr(1);
+    };
+    if (key == "run")
+      r.run = rest();
+    else if (key == "law")
+      r.law = rest();
+    else if (key == "status")
+      r.status = rest();
+    else if (key == "k")
+      ls >> r.k;
+    else if (key == "exit_code")
+      ls >> r.exit_code;
+    else if (key == "threads")
+      ls >> r.threads;
+    else if (key == "particles")
+      ls >> r.particles;
+    else if (key == "steps")
+      ls >> r.steps;
+    else if (key == "time_step")
+      ls >> r.time_step;
+    else if (key == "wall_time_s")
+      ls >> r.wall_time;
+    else if (key == "particle_steps_per_s")
+      ls >> r.particle_steps_per_s;
+    else if (key == "engine_particle_steps_per_s")
+      ls >> r.engine_particle_steps_per_s;
+    else if (key == "value") {
+      std::string name;
+      double v = 0;
+      ls >> name >> v;
+      r.values[name] = v;
+    } else if (key == "samples") {
+      std::string name;
+      ls >> name;
+      auto& v = r.samples[name];
+      double x;
+      while (ls >> x)
+        v.push_back(x);
+    }
+  }
+  if (r.run.empty()) throw std::runtime_error("record " + path + " names no run");
+  return r;
+}
+
+std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& ref) {
+  std::vector<SweepRow> rows;
+  for (const auto& r : runs) {
+    SweepRow row;
+    row.record = r;
+    const bool ok = r.exit_code == 0 && ref.exit_code == 0;
+    row.speedup = ok && r.wall_time > 0 ? ref.wall_time / r.wall_time : std::nan("");
+    if (ok) {
+      for (const auto& kv : ref.values) {
+        auto it = r.values.find(kv.first);
+        if (it == r.values.end()) continue;
+        const double d = std::abs(it->second - kv.second);
+        row.error[kv.first] = kv.second != 0 ? d / std::abs(kv.second) : d;
+      }
+      for (const auto& kv : ref.samples) {
+        auto it = r.samples.find(kv.first);
+        if (it == r.samples.end() || it->second.empty() || kv.second.empty()) continue;
+        row.w1[kv.first] = wasserstein1(it->second, kv.second);
+        row.ks[kv.first] = ks_distance(it->second, kv.second);
+      }
+    }
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// ---- command line ----
+
+SweepOptions parse_sweep_options(const std::vector<std::string>& args) {
+  SweepOptions o;
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    const std::string& a = args[k];
+    const std::string name = a.substr(0, a.find('='));
+    auto value = [&]() -> std::string {
+      const auto eq = a.find('=');
+      if (a.rfind("--", 0) == 0 && eq != std::string::npos) return a.substr(eq + 1);
+      if (k + 1 >= args.size()) throw CliError("option " + a + " needs a value (see --help)");
+      return args[++k];
+    };
+    if (name == "--laws")
+      o.laws = split(value(), ',');
+    else if (name == "--k") {
+      for (const auto& s : split(value(), ',')) {
+        char* end = nullptr;
+        const double x = std::strtod(s.c_str(), &end);
+        if (end == s.c_str() || *end || !(x >= 1))
+          throw CliError("--k expects scale factors >= 1 separated by commas, got '" + s + "'");
+        o.factors.push_back(x);
+      }
+    } else if (name == "--set")
+      o.overrides.push_back(value());
+    else if (name == "--out")
+      o.out = value();
+    else if (name == "--threads") {
+      const std::string v = value();
+      char* end = nullptr;
+      const long t = std::strtol(v.c_str(), &end, 10);
+      if (end == v.c_str() || *end || t < 1)
+        throw CliError("--threads expects a positive integer, got '" + v + "'");
+      o.threads = static_cast<int>(t);
+    } else if (name == "--policy") {
+      o.policy = value();
+      if (o.policy != "auto" && o.policy != "serial" && o.policy != "parallel")
+        throw CliError("--policy expects auto, serial or parallel, got '" + o.policy + "'");
+    } else if (name == "--quiet" || name == "-q")
+      o.quiet = true;
+    else if (name == "--no-plots")
+      o.plots = false;
+    else if (!a.empty() && a[0] == '-')
+      throw CliError("unknown option '" + a + "' (see --help)");
+    else if (o.scene.empty())
+      o.scene = a;
+    else
+      throw CliError("unexpected argument '" + a + "': one scene per sweep");
+  }
+  if (o.scene.empty()) throw CliError("no scene file given (see --help)");
+  if (o.laws.empty()) throw CliError("--laws is required, e.g. --laws chen_elliott,hu_method1");
+  if (o.factors.empty()) throw CliError("--k is required, e.g. --k 1,2,3,4");
+  std::sort(o.factors.begin(), o.factors.end());
+  o.factors.erase(std::unique(o.factors.begin(), o.factors.end()), o.factors.end());
+  return o;
+}
+
+const char* sweep_help() {
+  return R"(Usage: cgdem sweep SCENE.yaml --laws L1,L2,... --k 1,2,3,4 [options]
+
+Runs SCENE.yaml once with original-size particles (the reference, k = 1) and once per coarse-graining law
+and scale factor k > 1 (groups.*.coarse_grain = {law, factor} on every group, and each generated group's
+count divided by k^3 so that the same mass of powder is simulated). Each run is a separate 'cgdem run'
+process; its wall time, particle-steps per second, step and particle counts and the final values of the
+scene's analyses are recorded. Speed-up = reference wall time / run wall time; error = relative
+difference of each analysis value from the reference (W1 and KS distances for velocity distributions).
+
+Writes DIR/sweep.csv, DIR/sweep.h5 (/runs/<column>), DIR/speedup.png, DIR/error.png, one record per run
+in DIR/records/ and each run's HDF5 file and log in DIR/runs/<run>/. Started again, the sweep skips every
+run whose record exists (records are written atomically when a run ends).
+
+Options:
+  --laws L1,L2,...       coarse-graining laws (see docs/scene_format.md, groups.coarse_grain.law)
+  --k 1,2,3,4            scale factors; the k = 1 reference is always run (law none)
+  --set key.path=value   scene override applied to every run (repeatable)
+  --out DIR              output directory (default: sweep)
+  --threads N            cores to use (default: all)
+  --policy P             serial: one run at a time on N threads; parallel: N single-threaded runs at a
+                         time (oneTBB task group); auto (default): the faster on the measured small
+                         scenes, parallel (docs/sweeps.md)
+  --no-plots             skip the PNG plots
+  --quiet                no line per finished run
+
+Example:
+  cgdem sweep sweeps/tiny_pile.yaml --laws chen_elliott,bond --k 1,2,3 --out tiny_sweep
+)";
+}
+
+int sweep_command(const std::vector<std::string>& args) {
+  for (const auto& a : args)
+    if (a == "--help" || a == "-h") {
+      std::cout << sweep_help();
+      return 0;
+    }
+  Sweep s;
+  try {
+    s.o = parse_sweep_options(args);
+  } catch (const CliError& e) {
+    std::cerr << "cgdem sweep: " << e.what() << "\n";
+    return exit_bad_input;
+  }
+  SweepOptions& o = s.o;
+  std::vector<RunPlan> plans;
+  try {
+    s.scene = parse_scene_file(o.scene, o.overrides);
+    s.analyses = make_analyses(s.scene);
+    for (std::size_t g = 0; g < s.scene.groups.size(); ++g)
+      if (s.scene.groups[g].placement.kind == "file")
+        throw SceneError(
+            scene_error_message(s.scene.source_file, "groups." + std::to_string(g) + ".placement",
+                                "a sweep scales the particle count by k^-3, which a file group cannot do",
+                                "generate the particles (lattice, random_box, random_cylinder)"));
+    auto plan = [&](const std::string& law, double k) {
+      RunPlan p;
+      p.law = law;
+      p.k = k;
+      p.run = k == 1 ? "reference" : law + "_k" + k_name(k);
+      for (std::size_t g = 0; g < s.scene.groups.size(); ++g) {
+        const std::string key = "groups." + std::to_string(g);
+        p.sets.push_back(key + ".coarse_grain={law: " + law + ", factor: " + fmt(k) + "}");
+        const long count = std::max(1L, std::lround(s.scene.groups[g].count / (k * k * k)));
+        p.sets.push_back(key + ".count=" + std::to_string(count));
+      }
+      std::vector<std::string> all = o.overrides;
+      all.insert(all.end(), p.sets.begin(), p.sets.end());
+      parse_scene_file(o.scene, all); // a bad law or factor fails here, before anything runs
+      return p;
+    };
+    plans.push_back(plan("none", 1));
+    for (const auto& law : o.laws)
+      for (double k : o.factors)
+        if (k != 1) plans.push_back(plan(law, k));
+  } catch (const SceneError& e) {
+    std::cerr << "cgdem: " << e.what() << "\n";
+    return exit_bad_input;
+  } catch (const std::exception& e) {
+    std::cerr << "cgdem: " << o.scene << ": " << e.what() << "\n";
+    return exit_bad_input;
+  }
+
+  const int threads = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+  const std::string policy = o.policy == "auto" ? kAutoPolicy : o.policy;
+  s.dir = fs::absolute(o.out);
+  s.exe = self_exe();
+  s.scene_abs = fs::absolute(o.scene).string();
+  fs::create_directories(s.dir / "records");
+  fs::create_directories(s.dir / "runs");
+
+  std::vector<RunPlan> pending;
+  for (const auto& p : plans) {
+    if (fs::exists(s.record_path(p.run))) {
+      if (!o.quiet)
+        std::fprintf(stderr, "skip %s: record exists (%s)\n", p.run.c_str(), s.record_path(p.run).c_str());
+    } else {
+      pending.push_back(p);
+    }
+  }
+  s.total = static_cast<int>(pending.size());
+  if (!o.quiet)
+    std::fprintf(stderr, "cgdem sweep: %zu runs (%zu to do), policy %s on %d threads, results in %s\n",
+                 plans.size(), pending.size(), policy.c_str(), threads, s.dir.c_str());
+  const auto start = std::chrono::steady_clock::now();
+  std::atomic<bool> interrupted{false};
+  if (policy == "serial") {
+    for (const auto& p : pending)
+      if (!s.execute(p, threads, false)) interrupted = true;
+  } else {
+    tbb::task_arena arena(threads);
+    arena.execute([&] {
+      tbb::task_group group;
+      for (const auto& p : pending)
+        group.run([&, p] {
+          if (!s.execute(p, 1, true)) interrupted = true;
+        });
+      group.wait();
+    });
+  }
+  if (interrupted) {
+    std::fprintf(stderr, "cgdem sweep: some runs did not finish; start the sweep again to complete them\n");
+    return 1;
+  }
+
+  // Everything below comes from the records alone.
+  std::vector<RunRecord> records;
+  RunRecord reference;
+  for (const auto& p : plans) {
+    records.push_back(read_record(s.record_path(p.run).string()));
+    if (p.run == "reference") reference = records.back();
+  }
+  const auto rows = compare_runs(records, reference);
+  const Table table = make_table(rows, reference);
+  const std::string csv = (s.dir / "sweep.csv").string();
+  write_csv(csv, table);
+  write_h5((s.dir / "sweep.h5").string(), table, o, policy);
+  std::string mains;
+  for (const auto& a : s.analyses)
+    mains += (mains.empty() ? "" : ",") + a->name();
+  if (o.plots) {
+    const std::string cmd = "/usr/bin/python3 '" CGDEM_SOURCE_DIR "/sweeps/plot_sweep.py' '" + csv + "' '" +
+                            s.dir.string() + "' --metrics '" + mains + "'";
+    if (std::system(cmd.c_str()) != 0)
+      std::fprintf(stderr, "cgdem sweep: the plots failed (%s); the tables are written\n", cmd.c_str());
+  }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!o.quiet) {
+    std::fprintf(stderr, "done: %d runs in %.1f s; wrote %s, sweep.h5 and the plots in %s\n", s.total, wall,
+                 csv.c_str(), s.dir.c_str());
+    for (const auto& r : rows) {
+      std::fprintf(stderr, "  %-24s speed-up %7.2f", r.record.run.c_str(), r.speedup);
+      for (const auto& a : s.analyses) {
+        auto e = r.error.find(a->name());
+        auto ks = r.ks.find(a->name());
+        if (ks != r.ks.end())
+          std::fprintf(stderr, "  %s KS %.3f", a->name().c_str(), ks->second);
+        else if (e != r.error.end())
+          std::fprintf(stderr, "  %s err %.3f", a->name().c_str(), e->second);
+      }
+      std::fprintf(stderr, "  %s\n", r.record.status.c_str());
+    }
+  }
+  for (const auto& r : records)
+    if (r.exit_code != 0) return 1;
+  return 0;
+}
+
+} // namespace cgdem

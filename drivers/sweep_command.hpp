@@ -1,0 +1,55 @@
+#pragma once
+// `cgdem sweep`: the scene run at every (coarse-graining law, scale factor k) against the k = 1 reference of
+// original-size particles, as separate `cgdem run` processes; speed-up and error of each run against the
+// reference, written to DIR/sweep.csv, DIR/sweep.h5 and PNG plots (docs/sweeps.md).
+//
+// Each finished run leaves a record DIR/records/<run>.txt (written atomically: temporary file, fsync,
+// rename); a run whose record exists is complete and is skipped when the sweep is started again. The
+// tables and plots are computed only from the records.
+#include <map>
+#include <string>
+#include <vector>
+
+namespace cgdem {
+
+struct SweepOptions {
+  std::string scene;
+  std::vector<std::string> laws;
+  std::vector<double> factors;        // --k
+  std::vector<std::string> overrides; // --set, applied before the sweep's own
+  std::string out = "sweep";          // directory
+  int threads = 0;                    // 0: all hardware threads
+  std::string policy = "auto";        // auto | serial | parallel
+  bool quiet = false;
+  bool plots = true; // --no-plots: skip the python plots
+};
+
+// One run's own figures, as recorded.
+struct RunRecord {
+  std::string run, law, status; // status: ok | failed (exit N)
+  double k = 1;
+  int exit_code = 0;
+  long particles = 0, steps = 0;
+  double time_step = 0, wall_time = 0, particle_steps_per_s = 0, engine_particle_steps_per_s = 0;
+  int threads = 1;
+  std::map<std::string, double> values;               // final value of every analysis output
+  std::map<std::string, std::vector<double>> samples; // distribution analyses: final-frame samples
+};
+
+void write_record(const std::string& path, const RunRecord& r); // atomic
+RunRecord read_record(const std::string& path);                 // throws std::runtime_error
+
+// A run against the reference: speed-up = reference wall time / run wall time; errors = |x - x_ref| /
+// |x_ref| per value (|x - x_ref| when x_ref = 0); W1 and KS between the sample sets of each distribution.
+struct SweepRow {
+  RunRecord record;
+  double speedup = 0;
+  std::map<std::string, double> error, w1, ks;
+};
+std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& reference);
+
+SweepOptions parse_sweep_options(const std::vector<std::string>& args); // throws CliError
+const char* sweep_help();
+int sweep_command(const std::vector<std::string>& args);
+
+} // namespace cgdem

@@ -1,0 +1,237 @@
+// `cgdem sweep` end to end on the tiny scene (sweeps/tiny_pile.yaml): CSV columns, plots, resume after
+// pre-created records and after a kill, and speed-up / error recomputed from the per-run records.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <thread>
+#include "drivers/analyses.hpp"
+#include "drivers/cli.hpp"
+#include "drivers/sweep_command.hpp"
+
+using namespace cgdem;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kScene = CGDEM_SOURCE_DIR "/sweeps/tiny_pile.yaml";
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::map<std::string, std::string>> rows;
+  double num(std::size_t r, const std::string& c) const { return std::stod(rows.at(r).at(c)); }
+  std::size_t find(const std::string& run) const {
+    for (std::size_t r = 0; r < rows.size(); ++r)
+      if (rows[r].at("run") == run) return r;
+    return rows.size();
+  }
+};
+
+Csv read_csv(const fs::path& p) {
+  Csv c;
+  std::ifstream in(p);
+  std::string line;
+  auto cells = [](const std::string& l) {
+    std::vector<std::string> v;
+    std::stringstream ss(l);
+    std::string x;
+    while (std::getline(ss, x, ','))
+      v.push_back(x);
+    if (!l.empty() && l.back() == ',') v.push_back("");
+    return v;
+  };
+  std::getline(in, line);
+  c.header = cells(line);
+  while (std::getline(in, line)) {
+    const auto v = cells(line);
+    std::map<std::string, std::string> row;
+    for (std::size_t k = 0; k < c.header.size(); ++k)
+      row[c.header[k]] = k < v.size() ? v[k] : "";
+    c.rows.push_back(row);
+  }
+  return c;
+}
+
+class SweepTest : public ::testing::Test {
+protected:
+  fs::path dir;
+  void SetUp() override {
+    dir = fs::temp_directory_path() /
+          ("cgdem_sweep_" + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) +
+           "_" + std::to_string(getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  void TearDown() override { fs::remove_all(dir); }
+  // Short runs: 0.05 s of simulated time.
+  std::string args(const std::string& extra) const {
+    return "sweep '" + kScene + "' --laws chen_elliott --k 1,2,3 --set time.end=0.05 --out '" +
+           (dir / "s").string() + "' --threads 2 " + extra;
+  }
+  int cgdem(const std::string& a) {
+    const std::string cmd = "'" CGDEM_BINARY "' " + a + " > '" + (dir / "out.txt").string() + "' 2>&1";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+};
+
+} // namespace
+
+TEST(SweepOptions, ParseAndReject) {
+  const SweepOptions o =
+      parse_sweep_options({"s.yaml", "--laws", "a,b", "--k", "3,1,2,2", "--policy=serial"});
+  EXPECT_EQ(o.laws, (std::vector<std::string>{"a", "b"}));
+  EXPECT_EQ(o.factors, (std::vector<double>{1, 2, 3}));
+  EXPECT_EQ(o.policy, "serial");
+  EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "0.5"}), CliError);
+  EXPECT_THROW(parse_sweep_options({"s.yaml", "--k", "2"}), CliError);
+  EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--policy", "fast"}), CliError);
+}
+
+TEST(SweepOptions, CompareRunsFromRecords) {
+  RunRecord ref, run;
+  ref.run = "reference";
+  ref.wall_time = 8;
+  ref.values = {{"angle", 30}, {"zero", 0}};
+  ref.samples["v"] = {0, 1, 2, 3};
+  run.run = "x_k2";
+  run.wall_time = 2;
+  run.values = {{"angle", 27}, {"zero", 0.5}};
+  run.samples["v"] = {0.5, 1.5, 2.5, 3.5};
+  const auto rows = compare_runs({ref, run}, ref);
+  EXPECT_DOUBLE_EQ(rows[0].speedup, 1);
+  EXPECT_DOUBLE_EQ(rows[1].speedup, 4);
+  EXPECT_NEAR(rows[1].error.at("angle"), 0.1, 1e-15);
+  EXPECT_NEAR(rows[1].error.at("zero"), 0.5, 1e-15); // absolute when the reference is 0
+  EXPECT_NEAR(rows[1].w1.at("v"), 0.5, 1e-12);
+  EXPECT_NEAR(rows[1].ks.at("v"), 0.25, 1e-12);
+  // Records round-trip exactly.
+  const fs::path p = fs::temp_directory_path() / ("cgdem_record_" + std::to_string(getpid()) + ".txt");
+  run.law = "x";
+  run.status = "ok";
+  run.values["third"] = 1.0 / 3;
+  write_record(p.string(), run);
+  const RunRecord back = read_record(p.string());
+  fs::remove(p);
+  EXPECT_EQ(back.run, run.run);
+  EXPECT_EQ(back.status, "ok");
+  EXPECT_EQ(back.values, run.values);
+  EXPECT_EQ(back.samples, run.samples);
+  EXPECT_EQ(back.wall_time, run.wall_time);
+}
+
+TEST_F(SweepTest, CsvPlotsAndFiguresFromRecords) {
+  ASSERT_EQ(cgdem(args("")), 0) << slurp(dir / "out.txt");
+  const fs::path s = dir / "s";
+  for (const char* f : {"sweep.csv", "sweep.h5", "speedup.png", "error.png"}) {
+    ASSERT_TRUE(fs::exists(s / f)) << f << "\n" << slurp(dir / "out.txt");
+    EXPECT_GT(fs::file_size(s / f), 100u) << f;
+  }
+  const Csv csv = read_csv(s / "sweep.csv");
+  for (const char* c : {"run", "law", "k", "status", "particles", "steps", "wall_time_s",
+                        "particle_steps_per_s", "speedup", "pile", "err_pile", "pile_height", "floor_stress",
+                        "err_floor_stress", "bed", "bed_coordination", "speed", "w1_speed", "ks_speed"})
+    EXPECT_NE(std::find(csv.header.begin(), csv.header.end(), c), csv.header.end()) << "column " << c;
+  ASSERT_EQ(csv.rows.size(), 3u);
+  const std::size_t r1 = csv.find("reference"), r2 = csv.find("chen_elliott_k2"),
+                    r3 = csv.find("chen_elliott_k3");
+  ASSERT_LT(std::max({r1, r2, r3}), 3u);
+  EXPECT_EQ(csv.num(r1, "particles"), 300);
+  EXPECT_EQ(csv.num(r2, "particles"), 38); // 300 / 2^3
+  EXPECT_EQ(csv.num(r3, "particles"), 11);
+  EXPECT_DOUBLE_EQ(csv.num(r1, "speedup"), 1);
+  // Recompute from the records.
+  const RunRecord ref = read_record((s / "records" / "reference.txt").string());
+  for (const char* run : {"chen_elliott_k2", "chen_elliott_k3"}) {
+    const RunRecord r = read_record((s / "records" / (std::string(run) + ".txt")).string());
+    const std::size_t row = csv.find(run);
+    EXPECT_EQ(r.status, "ok");
+    EXPECT_NEAR(csv.num(row, "speedup"), ref.wall_time / r.wall_time, 1e-12 * ref.wall_time / r.wall_time);
+    EXPECT_NEAR(csv.num(row, "wall_time_s"), r.wall_time, 1e-12 * r.wall_time);
+    EXPECT_EQ(csv.num(row, "steps"), r.steps);
+    EXPECT_NEAR(csv.num(row, "particle_steps_per_s"), double(r.steps) * r.particles / r.wall_time,
+                1e-9 * csv.num(row, "particle_steps_per_s"));
+    for (const char* m : {"pile", "floor_stress", "bed"}) {
+      const double e = std::abs(r.values.at(m) - ref.values.at(m)) / std::abs(ref.values.at(m));
+      EXPECT_NEAR(csv.num(row, std::string("err_") + m), e, 1e-12 * (1 + e)) << run << " " << m;
+    }
+    EXPECT_NEAR(csv.num(row, "ks_speed"), ks_distance(r.samples.at("speed"), ref.samples.at("speed")), 1e-12);
+    EXPECT_NEAR(csv.num(row, "w1_speed"), wasserstein1(r.samples.at("speed"), ref.samples.at("speed")),
+                1e-12);
+    EXPECT_EQ(r.samples.at("speed").size(), static_cast<std::size_t>(r.particles));
+  }
+  // The floor carries the weight: the same powder mass at every k (within the settling left after 0.05 s).
+  EXPECT_GT(ref.values.at("floor_stress"), 0);
+}
+
+TEST_F(SweepTest, PreCreatedRecordIsSkippedAndUsed) {
+  RunRecord fake;
+  fake.run = "chen_elliott_k2";
+  fake.law = "chen_elliott";
+  fake.k = 2;
+  fake.status = "ok";
+  fake.particles = 38;
+  fake.steps = 100;
+  fake.wall_time = 1000;
+  fake.values = {{"pile", 45}, {"floor_stress", 1}, {"bed", 0.5}};
+  fake.samples["speed"] = {0, 1};
+  const fs::path rec = dir / "s" / "records" / "chen_elliott_k2.txt";
+  write_record(rec.string(), fake);
+  const std::string before = slurp(rec);
+  ASSERT_EQ(cgdem(args("--no-plots")), 0) << slurp(dir / "out.txt");
+  EXPECT_NE(slurp(dir / "out.txt").find("skip chen_elliott_k2"), std::string::npos) << slurp(dir / "out.txt");
+  EXPECT_FALSE(fs::exists(dir / "s" / "runs" / "chen_elliott_k2"));
+  EXPECT_EQ(slurp(rec), before);
+  const Csv csv = read_csv(dir / "s" / "sweep.csv");
+  const RunRecord ref = read_record((dir / "s" / "records" / "reference.txt").string());
+  const std::size_t row = csv.find("chen_elliott_k2");
+  ASSERT_LT(row, csv.rows.size());
+  EXPECT_NEAR(csv.num(row, "speedup"), ref.wall_time / 1000, 1e-15);
+  EXPECT_NEAR(csv.num(row, "err_pile"),
+              std::abs(45 - ref.values.at("pile")) / std::abs(ref.values.at("pile")), 1e-12);
+  // A second start runs nothing.
+  ASSERT_EQ(cgdem(args("--no-plots")), 0);
+  EXPECT_NE(slurp(dir / "out.txt").find("3 runs (0 to do)"), std::string::npos) << slurp(dir / "out.txt");
+}
+
+TEST_F(SweepTest, KilledSweepResumes) {
+  const fs::path ref = dir / "s" / "records" / "reference.txt";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const std::string out = (dir / "s").string();
+    execl(CGDEM_BINARY, CGDEM_BINARY, "sweep", kScene.c_str(), "--laws", "chen_elliott", "--k", "1,2,3",
+          "--set", "time.end=0.05", "--out", out.c_str(), "--policy", "serial", "--threads", "1",
+          "--no-plots", "--quiet", static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  while (!fs::exists(ref) && std::chrono::steady_clock::now() - start < std::chrono::seconds(120))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(fs::exists(ref));
+  const std::string before = slurp(ref);
+  int complete = 0;
+  for (const auto& e : fs::directory_iterator(dir / "s" / "records"))
+    complete += e.path().extension() == ".txt";
+  ASSERT_EQ(cgdem(args("--no-plots")), 0) << slurp(dir / "out.txt");
+  const std::string log = slurp(dir / "out.txt");
+  EXPECT_NE(log.find("skip reference"), std::string::npos) << log;
+  EXPECT_NE(log.find("3 runs (" + std::to_string(3 - complete) + " to do)"), std::string::npos) << log;
+  EXPECT_EQ(slurp(ref), before);
+  EXPECT_EQ(read_csv(dir / "s" / "sweep.csv").rows.size(), 3u);
+}
