@@ -42,6 +42,10 @@ struct ContactSpec {
   std::string tangential = "mindlin";   // mindlin | none
   std::string rolling = "none";         // none | constant_torque | spring_dashpot
   bool wall_adhesion = true;            // false: particle-wall pairs get no surface energy / liquid
+  // Direct force scaling wrapping the whole law (models/scaling/direct_force_scaling.hpp): none |
+  // hu_method1 | hu_method2 | hu_method3 | sakai. Not a YAML key: derived from the groups' coarse_grain.law
+  // by effective_contact() (core/scaling.hpp); the compiled name gets "@<method>".
+  std::string scaling = "none";
 };
 
 // Overrides for one material pair (values < 0 mean "mixed from the two materials").

@@ -4,6 +4,7 @@
 #include <limits>
 #include <sstream>
 #include "core/materials.hpp"
+#include "core/scaling.hpp"
 
 namespace cgdem {
 
@@ -17,12 +18,22 @@ double hertz_contact_time(double m_eff, double r_eff, double e_eff, double speed
 }
 
 TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
-  const std::size_t nm = scene.materials.size();
   const double inf = std::numeric_limits<double>::infinity();
-  // Smallest radius and its density per material.
-  std::vector<double> rmin(nm, inf), rho(nm, 0);
+  const ScalingLaw law = scene_scaling_law(scene);
+  // How the limit is evaluated under coarse-graining: on the original particles (chen_elliott: times 1,
+  // hu_method1: times l), or on the coarse particles with the scaled (parameter laws) or equivalent
+  // (hu_method2/3, sakai) contact.
+  const bool on_originals = law == ScalingLaw::ChenElliott || law == ScalingLaw::HuMethod1;
+  const DirectExponents ex = direct_exponents(law);
+  const ScaledTables tables = scaled_tables(scene);
+  const std::vector<MaterialSlot>& slots = tables.slots;
+  const std::size_t ns = slots.size();
+  // Smallest radius and its density per material slot (material, factor).
+  std::vector<double> rmin(ns, inf), rho(ns, 0);
   for (std::size_t i = 0; i < ps.size(); ++i) {
-    const int m = ps.material[i];
+    const int g = i < ps.group.size() ? ps.group[i] : -1;
+    const int m = g >= 0 && g < static_cast<int>(tables.slot_of_group.size()) ? tables.slot_of_group[g]
+                                                                              : ps.material[i];
     if (ps.radius[i] < rmin[m]) {
       rmin[m] = ps.radius[i];
       rho[m] = ps.density[i];
@@ -30,7 +41,8 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   }
   // Characteristic impact speed: initial speeds, moving walls, free fall over the domain height, 1 m/s floor.
   double speed = 1.0;
-  for (const auto& v : ps.velocity) speed = std::max(speed, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
+  for (const auto& v : ps.velocity)
+    speed = std::max(speed, std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]));
   for (const WallSpec& w : scene.walls) {
     speed = std::max(speed, std::sqrt(w.velocity[0] * w.velocity[0] + w.velocity[1] * w.velocity[1] +
                                       w.velocity[2] * w.velocity[2]));
@@ -39,7 +51,8 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
                              scene.gravity[2] * scene.gravity[2]);
   double height = 0;
-  for (int a = 0; a < 3; ++a) height = std::max(height, scene.domain.hi[a] - scene.domain.lo[a]);
+  for (int a = 0; a < 3; ++a)
+    height = std::max(height, scene.domain.hi[a] - scene.domain.lo[a]);
   speed = std::max(speed, std::sqrt(2 * g * height));
 
   TimeStepEstimate e;
@@ -48,40 +61,99 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   std::string tr_material, tc_pair;
   const bool linear = scene.contact.normal == "linear";
   const bool eepa = scene.contact.normal == "eepa";
-  for (std::size_t a = 0; a < nm; ++a) {
+  // Parameters the limit is evaluated with, for an original pair P at pair factor k.
+  const auto evaluated = [&](const models::PairParameters& P, double k) {
+    if (on_originals) return P;
+    if (!is_direct(law)) return scale_pair(P, law, k);
+    models::PairParameters q = P;
+    const double hp = std::pow(k, ex.hertz_modulus_power()), sp = std::pow(k, ex.spring_power());
+    q.E_eff *= hp;
+    q.G_eff *= hp;
+    q.k_n *= sp;
+    q.eepa_k1 *= sp;
+    q.eepa_k2 *= sp;
+    return q;
+  };
+  const auto slot_name = [&](std::size_t a) {
+    std::string n = scene.materials[slots[a].material].name;
+    if (slots[a].factor != 1) n += "@k=" + std::to_string(slots[a].factor).substr(0, 4);
+    return n;
+  };
+  for (std::size_t a = 0; a < ns; ++a) {
     if (!(rmin[a] < inf)) continue;
-    const MaterialSpec& ma = scene.materials[a];
+    const MaterialSpec& ma = scene.materials[slots[a].material];
+    const double ka = slots[a].factor;
     if (!linear && !eepa && ma.youngs_modulus > 0) {
-      const double tr = rayleigh_time(rmin[a], rho[a], ma.youngs_modulus, ma.poisson_ratio);
+      double tr;
+      if (on_originals)
+        tr = rayleigh_time(rmin[a] / ka, rho[a], ma.youngs_modulus, ma.poisson_ratio) *
+             (law == ScalingLaw::HuMethod1 ? ka : 1.0);
+      else if (is_direct(law))
+        tr = rayleigh_time(rmin[a], rho[a], ma.youngs_modulus * std::pow(ka, ex.hertz_modulus_power()),
+                           ma.poisson_ratio);
+      else {
+        const MaterialSpec sm = scale_material(ma, law, ka);
+        tr = rayleigh_time(rmin[a], rho[a], sm.youngs_modulus, sm.poisson_ratio);
+      }
       if (tr < e.rayleigh_time) {
         e.rayleigh_time = tr;
-        tr_material = ma.name;
+        tr_material = slot_name(a);
       }
     }
     auto consider = [&](std::size_t b, bool wall) {
-      const MaterialSpec& mb = scene.materials[b];
+      const MaterialSpec& mb = scene.materials[slots[b].material];
+      const double k = pair_scale_factor(ka, wall ? 0.0 : slots[b].factor);
       const double ra = rmin[a], rb = wall ? inf : rmin[b];
       const double mass_a = rho[a] * 4.0 / 3.0 * M_PI * ra * ra * ra;
       const double mass_b = wall ? inf : rho[b] * 4.0 / 3.0 * M_PI * rb * rb * rb;
-      const double m_eff = wall ? mass_a : mass_a * mass_b / (mass_a + mass_b);
-      const double r_eff = wall ? ra : ra * rb / (ra + rb);
-      const models::PairParameters p = mix_pair(ma, mb, false);
+      double m_eff = wall ? mass_a : mass_a * mass_b / (mass_a + mass_b);
+      double r_eff = wall ? ra : ra * rb / (ra + rb);
+      if (on_originals) {
+        m_eff /= k * k * k;
+        r_eff /= k;
+      }
+      const models::PairParameters p = evaluated(mix_pair(ma, mb, false), k);
       double tc = inf;
-      if (linear && p.k_n > 0) tc = M_PI * std::sqrt(m_eff / p.k_n);
-      else if (eepa && std::max(p.eepa_k1, p.eepa_k2) > 0) tc = M_PI * std::sqrt(m_eff / std::max(p.eepa_k1, p.eepa_k2));
-      else if (p.E_eff > 0) tc = hertz_contact_time(m_eff, r_eff, p.E_eff, speed);
+      if (linear && p.k_n > 0)
+        tc = M_PI * std::sqrt(m_eff / p.k_n);
+      else if (eepa && std::max(p.eepa_k1, p.eepa_k2) > 0)
+        tc = M_PI * std::sqrt(m_eff / std::max(p.eepa_k1, p.eepa_k2));
+      else if (p.E_eff > 0)
+        tc = hertz_contact_time(m_eff, r_eff, p.E_eff, speed);
+      if (law == ScalingLaw::HuMethod1) tc *= k;
       if (tc < e.contact_time) {
         e.contact_time = tc;
-        tc_pair = ma.name + (wall ? "-wall " : "-") + mb.name;
+        tc_pair = slot_name(a) + (wall ? "-wall " + mb.name : "-" + slot_name(b));
       }
     };
-    for (std::size_t b = 0; b < nm; ++b) {
+    for (std::size_t b = 0; b < ns; ++b) {
       if (rmin[b] < inf) consider(b, false);
     }
     for (const WallSpec& w : scene.walls) {
       const int b = scene.material_index(w.material);
       if (b >= 0) consider(static_cast<std::size_t>(b), true);
     }
+  }
+  if (law != ScalingLaw::None) {
+    std::ostringstream r;
+    r << scaling_law_name(law) << " (k =";
+    std::vector<double> seen;
+    for (const GroupSpec& gs : scene.groups)
+      if (std::find(seen.begin(), seen.end(), group_scale_factor(gs)) == seen.end()) {
+        seen.push_back(group_scale_factor(gs));
+        r << (seen.size() > 1 ? ", " : " ") << seen.back();
+      }
+    r << "): ";
+    if (law == ScalingLaw::ChenElliott)
+      r << "the original particles' step (contact time invariant under the law)";
+    else if (law == ScalingLaw::HuMethod1)
+      r << "l x the original particles' step (Hu eqs 38-41)";
+    else if (is_direct(law))
+      r << "the scaled contact's step (equivalent coarse contact, E* x l^" << ex.hertz_modulus_power()
+        << ", springs x l^" << ex.spring_power() << ")";
+    else
+      r << "the scaled contact's step (parameters scaled by the law on the coarse particles)";
+    e.rule = r.str();
   }
   const double by_rayleigh = 0.3 * e.rayleigh_time, by_contact = e.contact_time / 10;
   e.limit = std::min(by_rayleigh, by_contact);
@@ -91,6 +163,7 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
         << " s" << (linear || eepa ? "" : " at " + std::to_string(speed) + " m/s") << ")";
   else
     why << "0.3 x Rayleigh time of " << tr_material << " (T_R = " << e.rayleigh_time << " s)";
+  if (!e.rule.empty()) why << "; coarse-graining " << e.rule;
   if (scene.time.step > 0) {
     e.step = scene.time.step;
     std::ostringstream r;

@@ -258,7 +258,7 @@ int check_command(const std::vector<std::string>& args) {
   try {
     const PreparedRun p = prepare(o);
     make_analyses(p.scene); // validates the analyses (types, parameters, walls)
-    const std::string physics = physics_name(p.scene.contact);
+    const std::string physics = physics_name(p.config.contact); // "@<method>" under direct scaling
     bool compiled = false;
     for (const auto& c : compiled_physics()) compiled = compiled || c == physics;
     if (!compiled) {

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include "core/materials.hpp"
+#include "core/scaling.hpp"
 
 namespace cgdem {
 
@@ -16,11 +17,19 @@ Vec3 unit(const Vec3d& v) {
 EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles, const TimeStepEstimate& dt) {
   EngineConfig c;
   c.particles = particles;
+  // Coarse-graining (core/scaling.hpp): pair tables over material slots (material, factor), parameter
+  // laws applied per pair with the pair factor; particles use their group's slot, walls the factor-1 slots.
+  check_scaling(scene);
+  ScaledTables tables = scaled_tables(scene);
   c.scale_factor.resize(particles.size(), 1.0);
-  for (std::size_t i = 0; i < particles.size(); ++i) c.scale_factor[i] = scene.groups[particles.group[i]].coarse_grain.factor;
-  c.num_materials = static_cast<int>(scene.materials.size());
-  c.pair_params = pair_table(scene, false);
-  c.wall_params = pair_table(scene, true);
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const int g = particles.group[i];
+    c.scale_factor[i] = group_scale_factor(scene.groups[g]);
+    c.particles.material[i] = tables.slot_of_group[g];
+  }
+  c.num_materials = static_cast<int>(tables.slots.size());
+  c.pair_params = std::move(tables.pair_params);
+  c.wall_params = std::move(tables.wall_params);
   c.domain = Domain(to_vec(scene.domain.lo), to_vec(scene.domain.hi), scene.domain.periodic[0],
                     scene.domain.periodic[1], scene.domain.periodic[2]);
   c.gravity = to_vec(scene.gravity);
@@ -30,7 +39,7 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
   c.skin = scene.neighbour.skin >= 0 ? scene.neighbour.skin : scene.neighbour.skin_fraction * 2 * rmax;
   c.reorder_every = scene.neighbour.reorder_every;
   c.max_overlap_fraction = scene.stability.max_overlap_fraction;
-  c.contact = scene.contact;
+  c.contact = effective_contact(scene);
   for (std::size_t w = 0; w < scene.walls.size(); ++w) {
     const WallSpec& s = scene.walls[w];
     c.wall_names.push_back(s.name);

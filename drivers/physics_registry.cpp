@@ -22,6 +22,19 @@ std::unique_ptr<Engine> make_hertz_capillary_mindlin(const EngineConfig&, const 
 std::unique_ptr<Engine> make_hertz_capillary(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_eepa_mindlin(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_eepa_mindlin_ct(const EngineConfig&, const std::string&, const std::string&);
+// Direct force scaling (drivers/physics_scaled_<method>.cpp): the same laws wrapped per method.
+std::unique_ptr<Engine> make_hertz_mindlin_hu_method1(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_jkr_mindlin_hu_method1(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_capillary_hu_method1(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_mindlin_hu_method2(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_jkr_mindlin_hu_method2(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_capillary_hu_method2(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_mindlin_hu_method3(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_jkr_mindlin_hu_method3(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_capillary_hu_method3(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_mindlin_sakai(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_jkr_mindlin_sakai(const EngineConfig&, const std::string&, const std::string&);
+std::unique_ptr<Engine> make_hertz_capillary_sakai(const EngineConfig&, const std::string&, const std::string&);
 
 namespace {
 struct Entry {
@@ -44,6 +57,18 @@ const Entry registry[] = {
     {"hertz+capillary", make_hertz_capillary},
     {"eepa+mindlin", make_eepa_mindlin},
     {"eepa+mindlin+constant_torque", make_eepa_mindlin_ct},
+    {"hertz+mindlin@hu_method1", make_hertz_mindlin_hu_method1},
+    {"jkr+mindlin@hu_method1", make_jkr_mindlin_hu_method1},
+    {"hertz+capillary@hu_method1", make_hertz_capillary_hu_method1},
+    {"hertz+mindlin@hu_method2", make_hertz_mindlin_hu_method2},
+    {"jkr+mindlin@hu_method2", make_jkr_mindlin_hu_method2},
+    {"hertz+capillary@hu_method2", make_hertz_capillary_hu_method2},
+    {"hertz+mindlin@hu_method3", make_hertz_mindlin_hu_method3},
+    {"jkr+mindlin@hu_method3", make_jkr_mindlin_hu_method3},
+    {"hertz+capillary@hu_method3", make_hertz_capillary_hu_method3},
+    {"hertz+mindlin@sakai", make_hertz_mindlin_sakai},
+    {"jkr+mindlin@sakai", make_jkr_mindlin_sakai},
+    {"hertz+capillary@sakai", make_hertz_capillary_sakai},
 };
 } // namespace
 
@@ -52,6 +77,7 @@ std::string physics_name(const ContactSpec& c) {
   if (c.adhesion != "none") name += "+" + c.adhesion;
   if (c.tangential != "none") name += "+" + c.tangential;
   if (c.rolling != "none") name += "+" + c.rolling;
+  if (c.scaling != "none") name += "@" + c.scaling;  // direct force scaling wraps the whole law
   return name;
 }
 

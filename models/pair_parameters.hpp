@@ -33,6 +33,10 @@ struct PairParameters {
   Real liquid_volume = 0;      // per bridge if > 0 ...
   Real liquid_fraction = 0;    // ... else V_liq = liquid_fraction * (V_i + V_j) (Hu eq 42: 0.083 * 0.05)
   Real min_separation = 0;     // S_min
+  // Coarse-graining factor of the pair (core/scaling.cpp: pair_scale_factor), 1 for originals. Read on the
+  // host only, by the direct force scaling wrappers' interaction_range (models/scaling/); the device
+  // functors take the factors from PairState::scale_i/scale_j.
+  Real coarse_grain_factor = 1;
 };
 
 } // namespace cgdem::models

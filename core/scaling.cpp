@@ -1,0 +1,192 @@
+#include "core/scaling.hpp"
+#include <cmath>
+#include <stdexcept>
+#include "core/materials.hpp"
+
+namespace cgdem {
+
+namespace {
+struct LawName {
+  ScalingLaw law;
+  const char* name;
+};
+constexpr LawName kLaws[] = {
+    {ScalingLaw::None, "none"},
+    {ScalingLaw::ChenElliott, "chen_elliott"},
+    {ScalingLaw::Bond, "bond"},
+    {ScalingLaw::Cohesion, "cohesion"},
+    {ScalingLaw::Thakur, "thakur"},
+    {ScalingLaw::HuMethod1, "hu_method1"},
+    {ScalingLaw::HuMethod2, "hu_method2"},
+    {ScalingLaw::HuMethod3, "hu_method3"},
+    {ScalingLaw::Sakai, "sakai"},
+};
+} // namespace
+
+ScalingLaw scaling_law(const std::string& name) {
+  for (const LawName& l : kLaws)
+    if (name == l.name) return l.law;
+  throw std::invalid_argument("unknown coarse-graining law '" + name + "'");
+}
+
+const char* scaling_law_name(ScalingLaw law) {
+  for (const LawName& l : kLaws)
+    if (law == l.law) return l.name;
+  return "none";
+}
+
+bool is_direct(ScalingLaw law) {
+  return law == ScalingLaw::HuMethod1 || law == ScalingLaw::HuMethod2 || law == ScalingLaw::HuMethod3 ||
+         law == ScalingLaw::Sakai;
+}
+
+bool is_parameter(ScalingLaw law) {
+  return law == ScalingLaw::ChenElliott || law == ScalingLaw::Bond || law == ScalingLaw::Cohesion ||
+         law == ScalingLaw::Thakur;
+}
+
+ScalingLaw scene_scaling_law(const Scene& scene) {
+  return scene.groups.empty() ? ScalingLaw::None : scaling_law(scene.groups.front().coarse_grain.law);
+}
+
+double group_scale_factor(const GroupSpec& group) {
+  return group.coarse_grain.law == "none" ? 1.0 : group.coarse_grain.factor;
+}
+
+ParameterScaling parameter_scaling(ScalingLaw law, double k) {
+  ParameterScaling s;
+  switch (law) {
+  case ScalingLaw::ChenElliott: // Chen & Elliott 2020: gamma k^2, E k^2.5
+    s.surface_energy = k * k;
+    s.youngs_modulus = std::pow(k, 2.5);
+    break;
+  case ScalingLaw::Bond: // keeps F_c / m g
+    s.surface_energy = k * k;
+    break;
+  case ScalingLaw::Cohesion: // Behjani: keeps (Gamma^5 / (E*^2 R*^8))^(1/3) / (rho g)
+    s.surface_energy = std::pow(k, 1.6);
+    break;
+  case ScalingLaw::Thakur: // Thakur 2016: stiffnesses k, pull-off k^2
+    s.stiffness = k;
+    s.pull_off = k * k;
+    break;
+  default:
+    break;
+  }
+  return s;
+}
+
+MaterialSpec scale_material(const MaterialSpec& original, ScalingLaw law, double k) {
+  const ParameterScaling s = parameter_scaling(law, k);
+  MaterialSpec m = original;
+  m.surface_energy *= s.surface_energy;
+  m.youngs_modulus *= s.youngs_modulus;
+  m.eepa_k1 *= s.stiffness;
+  m.eepa_k2 *= s.stiffness;
+  m.eepa_k_adh *= s.stiffness;
+  m.spring_normal *= s.stiffness;
+  m.spring_tangential *= s.stiffness;
+  m.eepa_f0 *= s.pull_off;
+  return m;
+}
+
+models::PairParameters scale_pair(const models::PairParameters& original, ScalingLaw law, double k) {
+  const ParameterScaling s = parameter_scaling(law, k);
+  models::PairParameters p = original;
+  p.surface_energy *= s.surface_energy;
+  p.E_eff *= s.youngs_modulus;
+  p.G_eff *= s.youngs_modulus;
+  p.eepa_k1 *= s.stiffness;
+  p.eepa_k2 *= s.stiffness;
+  p.eepa_k_adh *= s.stiffness;
+  p.k_n *= s.stiffness;
+  p.k_t *= s.stiffness;
+  p.eepa_f0 *= s.pull_off;
+  p.coarse_grain_factor = k;
+  return p;
+}
+
+double pair_scale_factor(double k_i, double k_j) {
+  return k_j > 0 ? 2 * k_i * k_j / (k_i + k_j) : k_i;
+}
+
+ScaledTables scaled_tables(const Scene& scene) {
+  const int nm = static_cast<int>(scene.materials.size());
+  const ScalingLaw law = scene_scaling_law(scene);
+  ScaledTables t;
+  for (int m = 0; m < nm; ++m)
+    t.slots.push_back({m, 1.0});
+  for (const GroupSpec& g : scene.groups) {
+    const int m = std::max(0, scene.material_index(g.material));
+    const double k = group_scale_factor(g);
+    int slot = -1;
+    for (std::size_t s = 0; s < t.slots.size() && slot < 0; ++s)
+      if (t.slots[s].material == m && t.slots[s].factor == k) slot = static_cast<int>(s);
+    if (slot < 0) {
+      slot = static_cast<int>(t.slots.size());
+      t.slots.push_back({m, k});
+    }
+    t.slot_of_group.push_back(slot);
+  }
+  const std::vector<models::PairParameters> pairs = pair_table(scene, false), walls = pair_table(scene, true);
+  const std::size_t ns = t.slots.size();
+  t.pair_params.resize(ns * ns);
+  t.wall_params.resize(ns * ns);
+  for (std::size_t a = 0; a < ns; ++a)
+    for (std::size_t b = 0; b < ns; ++b) {
+      const MaterialSlot sa = t.slots[a], sb = t.slots[b];
+      const std::size_t orig = static_cast<std::size_t>(sa.material) * nm + sb.material;
+      t.pair_params[a * ns + b] = scale_pair(pairs[orig], law, pair_scale_factor(sa.factor, sb.factor));
+      t.wall_params[a * ns + b] = scale_pair(walls[orig], law, pair_scale_factor(sa.factor, 0));
+    }
+  return t;
+}
+
+ContactSpec effective_contact(const Scene& scene) {
+  ContactSpec c = scene.contact;
+  const ScalingLaw law = scene_scaling_law(scene);
+  c.scaling = is_direct(law) ? scaling_law_name(law) : "none";
+  return c;
+}
+
+void check_scaling(const Scene& scene) {
+  const ScalingLaw law = scene_scaling_law(scene);
+  for (const GroupSpec& g : scene.groups)
+    if (scaling_law(g.coarse_grain.law) != law)
+      throw std::invalid_argument("coarse_grain law '" + g.coarse_grain.law + "' of group '" + g.name +
+                                  "' differs from the scene's '" + scaling_law_name(law) + "'");
+  const std::string& normal = scene.contact.normal;
+  const bool spring = normal == "eepa" || normal == "linear";
+  if (law == ScalingLaw::Thakur && !spring)
+    throw std::invalid_argument(
+        "coarse_grain law thakur scales EEPA / linear spring stiffnesses; the scene's "
+        "normal law is '" +
+        normal + "' (use eepa or linear, or chen_elliott for JKR/DMT/Hertz)");
+  if ((law == ScalingLaw::ChenElliott || law == ScalingLaw::Bond || law == ScalingLaw::Cohesion) && spring)
+    throw std::invalid_argument(std::string("coarse_grain law ") + scaling_law_name(law) +
+                                " scales E and gamma of Hertz-based laws; the scene's normal law is '" +
+                                normal + "' (use thakur for eepa / linear)");
+}
+
+DirectExponents direct_exponents(ScalingLaw law) {
+  DirectExponents e;
+  switch (law) {
+  case ScalingLaw::HuMethod1: // delta_O = delta_S / l, F_S = l^2 F_O, M_S = l^2 M_O
+    e = {1, 2, 2, 2};
+    break;
+  case ScalingLaw::HuMethod2: // delta_O = delta_S, l^2
+    e = {0, 2, 2, 2};
+    break;
+  case ScalingLaw::HuMethod3: // delta_O = delta_S / l, l^3
+    e = {1, 3, 3, 3};
+    break;
+  case ScalingLaw::Sakai: // delta_O = delta_S, contact l^3, adhesion l^2, torque l^4
+    e = {0, 3, 2, 4};
+    break;
+  default:
+    break;
+  }
+  return e;
+}
+
+} // namespace cgdem

@@ -1,0 +1,129 @@
+#pragma once
+// Direct force scaling (Hu, Chan, Tsuji, Tanaka & Washino 2022; Sakai & Koshizuka 2009), physics.md 2:
+// evaluate the ORIGINAL pair's force with the ORIGINAL parameters from the coarse pair's state, then scale
+// the force and torque up. DirectForceScaling<Method, Law> wraps any ContactLaw<...> and is itself a law
+// (same interface: history_size, interaction_range, const device call operator).
+//
+// Original state from the coarse one, with l the pair's factor (l_i = l_j = l: exact; mixed factors use
+// l = 2 l_i l_j / (l_i + l_j), the wall pair l = l_i, the rule of core/scaling.hpp):
+//   v_O = v_S (overlap rate, tangential contact velocity unchanged), omega_O = l omega_S,
+//   R_O = R_S / l (R_i, R_j, R*), m*_O = m*_S / l^3, V_O = V_S / l^3 (liquid bridge volumes),
+//   overlap / separation: delta_O = delta_S / l^overlap_power (geometric similarity for Hu methods 1 and 3,
+//   unchanged for method 2 and Sakai).
+// Coarse force F_S = l^force_power F_O (Sakai: the adhesion component l^adhesion_power), torque
+// M_S = l^torque_power M_O with M_O the wrapped law's torque (lever R_O - delta_O / 2).
+//
+// History: the wrapped law's slots, same size and meaning, holding the ORIGINAL contact's state (JKR bond
+// flag and contact radius a_O, bridge flag, tangential spring displacement xi_O). Tangential displacement
+// rule: xi_O follows the overlap's geometric rule, xi_O = xi_S / l^overlap_power. It is obtained by
+// integrating the (unchanged) tangential velocity over dt_O = dt / l^overlap_power: xi_O += v_t dt_O.
+// The same time map keeps a rolling spring's angle at the coarse one's under geometric similarity.
+#include "models/contact_law.hpp"
+
+namespace cgdem::models::scaling {
+
+// Exponents per method (the host mirror is cgdem::direct_exponents in core/scaling.cpp).
+struct HuMethod1 { // recommended by Hu: geometric similarity, l^2
+  static constexpr const char* name = "hu_method1";
+  static constexpr int overlap_power = 1, force_power = 2, adhesion_power = 2, torque_power = 2;
+};
+struct HuMethod2 { // conventional: coarse overlap taken as the original's, l^2
+  static constexpr const char* name = "hu_method2";
+  static constexpr int overlap_power = 0, force_power = 2, adhesion_power = 2, torque_power = 2;
+};
+struct HuMethod3 { // geometric similarity, l^3
+  static constexpr const char* name = "hu_method3";
+  static constexpr int overlap_power = 1, force_power = 3, adhesion_power = 3, torque_power = 3;
+};
+struct Sakai { // Sakai & Koshizuka 2009: contact l^3, adhesive (van der Waals type) l^2, torque l^4
+  static constexpr const char* name = "sakai";
+  static constexpr int overlap_power = 0, force_power = 3, adhesion_power = 2, torque_power = 4;
+};
+
+KOKKOS_INLINE_FUNCTION Real power(Real l, int n) {
+  Real r = 1;
+  for (int k = 0; k < n; ++k)
+    r *= l;
+  return r;
+}
+
+// Pair factor from the two particles' factors (scale_j <= 0: a wall).
+KOKKOS_INLINE_FUNCTION Real pair_factor(Real scale_i, Real scale_j) {
+  return scale_j > 0 ? 2 * scale_i * scale_j / (scale_i + scale_j) : scale_i;
+}
+
+// The original pair's state seen from the coarse pair (l >= 1).
+template <class Method>
+KOKKOS_INLINE_FUNCTION PairState original_state(const PairState& s, Real l) {
+  const Real g = 1 / power(l, Method::overlap_power); // geometric factor on lengths of the contact
+  const Real l3 = l * l * l;
+  PairState o = s;
+  o.overlap = g * s.overlap;
+  // overlap_rate and tangential_velocity: v_O = v_S and omega_O R_O = omega_S R_S.
+  o.relative_rotation = l * s.relative_rotation;
+  o.omega_i = l * s.omega_i;
+  o.radius_i = s.radius_i / l;
+  o.radius_j = s.radius_j / l;
+  o.radius_eff = s.radius_eff / l;
+  o.mass_eff = s.mass_eff / l3;
+  o.volume_i = s.volume_i / l3;
+  o.volume_j = s.volume_j / l3;
+  o.dt = g * s.dt; // xi_O = xi_S / l^overlap_power (see the header)
+  o.scale_i = 1;
+  o.scale_j = s.scale_j > 0 ? 1 : 0;
+  return o;
+}
+
+template <class Method, class Law>
+struct DirectForceScaling {
+  using method_type = Method;
+  using law_type = Law;
+  static constexpr int history_size = Law::history_size;
+
+  Law law;
+
+  // Coarse reach: the original pair's (radii / l) stretched back by l^overlap_power. l is the pair table's
+  // coarse_grain_factor (core/scaling.cpp); the Simulation takes the maximum over all table entries.
+  static Real interaction_range(const PairParameters& p, Real R_i, Real R_j) {
+    const Real l = p.coarse_grain_factor > 0 ? p.coarse_grain_factor : 1;
+    const Real range = Law::interaction_range(p, R_i / l, R_j > 0 ? R_j / l : R_j);
+    return range * power(l, Method::overlap_power);
+  }
+
+  KOKKOS_INLINE_FUNCTION ContactForce operator()(const PairParameters& p, const PairState& s,
+                                                 Real* history) const {
+    const Real l = pair_factor(s.scale_i, s.scale_j);
+    const PairState o = original_state<Method>(s, l);
+    if constexpr (Method::adhesion_power == Method::force_power) {
+      ContactForce cf = law(p, o, history);
+      cf.force *= power(l, Method::force_power);
+      cf.torque *= power(l, Method::torque_power);
+      return cf;
+    } else {
+      // The adhesion component scales differently (Sakai): the wrapped ContactLaw's composition, with the
+      // contact (normal law + tangential) and adhesion parts scaled separately. Keep in step with
+      // ContactLaw::operator() (models/contact_law.hpp).
+      const Real fc = power(l, Method::force_power), fa = power(l, Method::adhesion_power);
+      const Real ft_scale = power(l, Method::torque_power);
+      NormalResult nr = law.normal(p, o, history + Law::normal_offset);
+      const Real attraction = law.adhesion(p, o, nr, history + Law::adhesion_offset);
+      ContactForce out;
+      if (!nr.active) {
+        for (int k = Law::tangential_offset; k < Law::history_size; ++k)
+          history[k] = 0;
+        out.force = (fa * attraction) * o.normal;
+        out.active = attraction > 0;
+        return out;
+      }
+      out.active = true;
+      const Vec3 ft = law.tangential(p, o, nr, history + Law::tangential_offset);
+      const Vec3 rolling_torque = law.rolling(p, o, nr, history + Law::rolling_offset);
+      out.force = (fa * attraction - fc * nr.force) * o.normal + fc * ft;
+      const Real lever = o.radius_i - 0.5 * (o.overlap > 0 ? o.overlap : 0);
+      out.torque = ft_scale * (cross(lever * o.normal, ft) + rolling_torque);
+      return out;
+    }
+  }
+};
+
+} // namespace cgdem::models::scaling
