@@ -1,10 +1,10 @@
 #pragma once
-// Pair and wall force accumulation in one pass per particle: particle i walks its own neighbour slots
-// and the walls and sums its force and torque in a fixed order. With the full neighbour list nothing
-// is scattered, so no atomics and bitwise the same result on any backend and thread count.
-//
-// The (i, j) and (j, i) evaluations see exactly negated geometry (core/domain.hpp, models/contact_state.hpp)
-// so the two forces are exact negatives and momentum is conserved to round-off.
+// Pair and wall forces in two passes over the particles, both deterministic (no atomics):
+//   1. each particle i evaluates the law once for each pair it owns in the half list and for each wall,
+//      sums what it feels, and leaves in the slot what the partner feels (-force, its torque);
+//   2. each particle adds what its partners left for it, in slot order.
+// The sum order is fixed by the list alone, so every backend and thread count gives the same bits, and
+// the partner gets exactly the negated force: momentum is conserved to round-off.
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
@@ -33,6 +33,9 @@ struct ContactForces {
     const auto offsets = nl.offsets;
     const auto neighbors = nl.neighbors;
     const auto history = nl.history;
+    const auto slot_force = nl.slot_force;
+    const auto slot_torque = nl.slot_partner_torque;
+    const auto slot_active = nl.slot_active;
     Kokkos::parallel_for(
         "cgdem::kernels::contact_forces", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           const Vec3 xi = load3(p.position, i);
@@ -60,6 +63,7 @@ struct ContactForces {
               if constexpr (H > 0)
                 for (int k = 0; k < H; ++k)
                   if (history(s, k) != 0) history(s, k) = 0;
+              slot_active(s) = 0;
               continue;
             }
             const Real dist = math::sqrt(dist2);
@@ -77,6 +81,7 @@ struct ContactForces {
             st.tangential_velocity = vrel - dot(vrel, st.normal) * st.normal;
             st.relative_rotation = wi - wj;
             st.omega_i = wi;
+            st.omega_j = wj;
             st.radius_i = ri;
             st.radius_j = rj;
             st.radius_eff = ri * rj / (ri + rj);
@@ -95,6 +100,14 @@ struct ContactForces {
             f += cf.force;
             t += cf.torque;
             contacts += cf.active ? 1 : 0;
+            // What j feels, picked up by j in pass 2. A pair that exerts nothing (a listed, non-touching
+            // pair of a law without reach) only clears its flag.
+            const bool exerts = cf.active || norm2(cf.force) > 0;
+            slot_active(s) = exerts ? (cf.active ? 2 : 1) : 0;
+            if (exerts) {
+              store3(slot_force, s, -cf.force);
+              store3(slot_torque, s, cf.torque_j);
+            }
           }
 
           for (int w = 0; w < nwalls; ++w) {
@@ -140,6 +153,25 @@ struct ContactForces {
           store3(p.torque, i, t);
           p.contacts(i) = contacts;
           p.wall_contacts(i) = wall_contacts;
+        });
+    const auto partner_offsets = nl.partner_offsets;
+    const auto partner_slots = nl.partner_slots;
+    Kokkos::parallel_for(
+        "cgdem::kernels::gather_partner_forces", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int j) {
+          Vec3 f, t;
+          int contacts = 0;
+          for (int k = partner_offsets(j); k < partner_offsets(j + 1); ++k) {
+            const int s = partner_slots(k);
+            const int flag = slot_active(s);
+            if (flag == 0) continue;
+            f += load3(slot_force, s);
+            t += load3(slot_torque, s);
+            contacts += flag == 2 ? 1 : 0;
+          }
+          if (contacts == 0 && norm2(f) == 0 && norm2(t) == 0) return;
+          store3(p.force, j, load3(p.force, j) + f);
+          store3(p.torque, j, load3(p.torque, j) + t);
+          p.contacts(j) += contacts;
         });
   }
 };

@@ -1,37 +1,48 @@
 #pragma once
-// Verlet neighbour list in CSR form (full list: each particle lists all partners, so each particle
-// sums its own forces and the result does not depend on the thread count), with per-slot contact
-// history of a compile-time size that survives rebuilds and spatial reorders.
+// Verlet neighbour list in CSR form, HALF list: each pair {i, j} is stored once, under the particle with
+// the lower store index, so each contact law is evaluated once per pair. A transposed CSR lists, for every
+// particle, the slots where it is the partner; forces are then gathered per particle in a fixed order
+// (own slots, then transposed slots in slot order), so no atomics and bitwise the same sums on any
+// backend and thread count (kernels/contact_forces.hpp).
 //
-// Order of neighbours: the 27 stencil cells in fixed order, particles of a cell in sorted order, so
-// the list, and the summation order of forces, is the same on every backend and thread count.
+// Per-slot contact history (compile-time size) survives rebuilds and spatial reorders; when a reorder
+// changes which particle owns a pair, the history is flipped to the new owner's point of view
+// (Law::flip_history: tangential displacements change sign, bond flags do not).
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
 #include "kernels/cell_grid.hpp"
 
 namespace cgdem::kernels {
 
-template <class ExecSpace, int HistorySize>
+template <class ExecSpace, class Law>
 struct NeighborList {
   using Mem = typename ExecSpace::memory_space;
-  static constexpr int history_size = HistorySize;
+  static constexpr int H = Law::history_size;
+  using HistoryView = Kokkos::View<Real**, Kokkos::LayoutRight, Mem>;
 
-  Kokkos::View<int*, Mem> offsets;   // n + 1
-  Kokkos::View<int*, Mem> neighbors; // capacity >= offsets(n)
-  Kokkos::View<Real**, Kokkos::LayoutRight, Mem> history;  // capacity x HistorySize (0 columns: none)
+  Kokkos::View<int*, Mem> offsets;    // n + 1
+  Kokkos::View<int*, Mem> neighbors;  // capacity >= offsets(n); every entry > its owner's index
+  HistoryView history;                // capacity x H (no columns, no storage, when the law keeps none)
+  Kokkos::View<int*, Mem> partner_offsets;  // n + 1: transposed CSR
+  Kokkos::View<int*, Mem> partner_slots;    // slots whose partner is the particle, in increasing order
+  // What each slot hands to its partner: the pair force on the owner (the partner gets its negative),
+  // the torque on the partner, and whether the pair is an active contact.
+  Kokkos::View<Real* [3], Mem> slot_force, slot_partner_torque;
+  Kokkos::View<int*, Mem> slot_active;
   int num_slots = 0;
 
-  // Previous list kept for the history transfer at the next build (swapped, never reallocated per step).
+  // Previous list, kept for the history transfer at the next build (swapped, not reallocated).
   Kokkos::View<int*, Mem> old_offsets, old_neighbors;
-  Kokkos::View<Real**, Kokkos::LayoutRight, Mem> old_history;
+  HistoryView old_history;
 
   std::size_t bytes() const {
-    return offsets.span() * sizeof(int) + neighbors.span() * sizeof(int) + history.span() * sizeof(Real);
+    return (offsets.span() + neighbors.span() + partner_offsets.span() + partner_slots.span() + slot_active.span() +
+            old_offsets.span() + old_neighbors.span()) * sizeof(int) +
+           (history.span() + old_history.span() + slot_force.span() + slot_partner_torque.span()) * sizeof(Real);
   }
 
-  // Build from bins whose `order` lists the particles by cell. `old_index(i)` maps a particle's
-  // current index to its index when the previous list was built (identity without a reorder), so the
-  // history of pair (i, j) is found under (old_index(i), old_index(j)).
+  // Build from bins whose `order` lists the particles by cell. `old_index(i)` maps a particle's current
+  // index to its index when the previous list was built (identity without a reorder).
   template <class PositionView, class RadiusView, class OldIndexView>
   void build(const Domain& domain, const CellGrid& grid, const CellBins<ExecSpace>& bins,
              const PositionView& position, const RadiusView& radius, Real extra_cutoff, int n,
@@ -39,15 +50,16 @@ struct NeighborList {
     std::swap(old_offsets, offsets);
     std::swap(old_neighbors, neighbors);
     std::swap(old_history, history);
-    if (static_cast<int>(offsets.extent(0)) != n + 1) offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_offsets", n + 1);
+    if (static_cast<int>(offsets.extent(0)) != n + 1)
+      offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_offsets", n + 1);
 
     const auto cell_of = bins.cell_of_particle;
     const auto start = bins.cell_start;
     const auto order = bins.order;
     const auto offs = offsets;
 
-    // Visit every candidate partner of i in deterministic order; f(j) is called for partners inside
-    // R_i + R_j + extra_cutoff.
+    // Visit the partners j > i of particle i in deterministic order (27 stencil cells in fixed order,
+    // a cell's particles in sorted order); f(j) is called for partners inside R_i + R_j + extra_cutoff.
     auto visit = [=] KOKKOS_FUNCTION(int i, auto&& f) {
       const Vec3 xi{position(i, 0), position(i, 1), position(i, 2)};
       const Real ri = radius(i);
@@ -74,7 +86,7 @@ struct NeighborList {
             const int cell = x + grid.dims[0] * (y + grid.dims[1] * z);
             for (int k = start(cell); k < start(cell + 1); ++k) {
               const int j = order(k);
-              if (j == i) continue;
+              if (j <= i) continue;
               const Vec3 d = domain.minimum_image(Vec3{position(j, 0), position(j, 1), position(j, 2)} - xi);
               const Real cut = ri + radius(j) + extra_cutoff;
               if (norm2(d) < cut * cut) f(j);
@@ -100,13 +112,7 @@ struct NeighborList {
         },
         total);
     num_slots = total;
-    if (static_cast<int>(neighbors.extent(0)) < total) {
-      // Grow with headroom so that a slowly densifying system does not reallocate at every build.
-      const int cap = static_cast<int>(total * 1.2) + 64;
-      neighbors = Kokkos::View<int*, Mem>("cgdem::kernels::nl_neighbors", cap);
-      history = Kokkos::View<Real**, Kokkos::LayoutRight, Mem>("cgdem::kernels::nl_history", HistorySize > 0 ? cap : 0,
-                                                               HistorySize);
-    }
+    if (static_cast<int>(neighbors.extent(0)) < total) reserve(static_cast<int>(total * 1.2) + 64);
     const auto neigh = neighbors;
     const auto hist = history;
     const auto o_offs = old_offsets;
@@ -116,23 +122,91 @@ struct NeighborList {
         "cgdem::kernels::nl_fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           int slot = offs(i);
           visit(i, [&](int j) { neigh(slot++) = j; });
-          if constexpr (HistorySize > 0) {
-            // Carry each pair's history over from the previous list; a new pair starts at zero.
+          if constexpr (H > 0) {
+            // Carry each pair's history over from the previous list, where the pair was kept under the
+            // particle whose OLD index was lower; a new pair starts at zero.
             const int oi = old_index(i);
             for (int s = offs(i); s < offs(i + 1); ++s) {
               const int oj = old_index(neigh(s));
+              const bool flipped = oj < oi;
+              const int owner = flipped ? oj : oi, partner = flipped ? oi : oj;
               int found = -1;
               if (have_old)
-                for (int t = o_offs(oi); t < o_offs(oi + 1); ++t)
-                  if (o_neigh(t) == oj) {
+                for (int t = o_offs(owner); t < o_offs(owner + 1); ++t)
+                  if (o_neigh(t) == partner) {
                     found = t;
                     break;
                   }
-              for (int h = 0; h < HistorySize; ++h) hist(s, h) = found >= 0 ? o_hist(found, h) : 0;
+              Real h[H];
+              for (int k = 0; k < H; ++k) h[k] = found >= 0 ? o_hist(found, k) : 0;
+              if (flipped) Law::flip_history(h);
+              for (int k = 0; k < H; ++k) hist(s, k) = h[k];
             }
           }
         });
+    build_partners(n);
+  }
+
+  // The transposed CSR, a pure function of (offsets, neighbors): also rebuilt after a restart.
+  void build_partners(int n) {
+    if (static_cast<int>(partner_offsets.extent(0)) != n + 1)
+      partner_offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_partner_offsets", n + 1);
+    if (partner_slots.extent(0) < neighbors.extent(0)) reserve(static_cast<int>(neighbors.extent(0)));
+    const auto offs = offsets;
+    const auto neigh = neighbors;
+    const auto p_offs = partner_offsets;
+    const auto p_slots = partner_slots;
+    Kokkos::deep_copy(ExecSpace(), p_offs, 0);
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_partner_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          for (int s = offs(i); s < offs(i + 1); ++s) Kokkos::atomic_increment(&p_offs(neigh(s) + 1));
+        });
+    Kokkos::parallel_scan(
+        "cgdem::kernels::nl_partner_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+        KOKKOS_LAMBDA(int i, int& partial, bool final) {
+          partial += p_offs(i);
+          if (final) p_offs(i) = partial;
+        });
+    // Fill with a per-particle cursor (atomics: any order), then sort each particle's few slots so the
+    // gather order is fixed.
+    Kokkos::View<int*, Mem> cursor(Kokkos::view_alloc(ExecSpace(), "cgdem::kernels::nl_partner_cursor"), n);
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_partner_fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          for (int s = offs(i); s < offs(i + 1); ++s) {
+            const int j = neigh(s);
+            p_slots(p_offs(j) + Kokkos::atomic_fetch_add(&cursor(j), 1)) = s;
+          }
+        });
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_partner_sort", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int j) {
+          const int b = p_offs(j), e = p_offs(j + 1);
+          for (int k = b + 1; k < e; ++k) {
+            const int v = p_slots(k);
+            int m = k - 1;
+            while (m >= b && p_slots(m) > v) {
+              p_slots(m + 1) = p_slots(m);
+              --m;
+            }
+            p_slots(m + 1) = v;
+          }
+        });
     Kokkos::fence();
+  }
+
+  // Room for `capacity` slots (with the same headroom policy everywhere: growth only, never per step).
+  void reserve(int capacity) {
+    if (static_cast<int>(neighbors.extent(0)) < capacity) {
+      Kokkos::View<int*, Mem> grown("cgdem::kernels::nl_neighbors", capacity);
+      HistoryView grown_history("cgdem::kernels::nl_history", H > 0 ? capacity : 0, H);
+      neighbors = grown;
+      history = grown_history;
+    }
+    if (static_cast<int>(partner_slots.extent(0)) < capacity) {
+      partner_slots = Kokkos::View<int*, Mem>("cgdem::kernels::nl_partner_slots", capacity);
+      slot_force = Kokkos::View<Real* [3], Mem>("cgdem::kernels::slot_force", capacity);
+      slot_partner_torque = Kokkos::View<Real* [3], Mem>("cgdem::kernels::slot_partner_torque", capacity);
+      slot_active = Kokkos::View<int*, Mem>("cgdem::kernels::slot_active", capacity);
+    }
   }
 };
 

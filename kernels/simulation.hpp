@@ -133,7 +133,7 @@ class Simulation final : public Engine {
   Kokkos::View<Wall*, Mem> walls_;
   HistoryView wall_history_, wall_history_scratch_;
   Kokkos::View<Real* [3], Mem> wall_force_record_;  // N x wall parts, written on recording steps
-  NeighborList<ExecSpace, H> nl_;
+  NeighborList<ExecSpace, Law> nl_;
   CellBins<ExecSpace> bins_;
   CellGrid grid_;
   Kokkos::View<int*, Mem> identity_;

@@ -158,8 +158,20 @@ std::string Simulation<Law, ExecSpace>::diagnose(const std::string& what) {
   auto v = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.velocity);
   auto r = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.radius);
   auto id = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), store_.id);
-  auto off = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nl_.offsets);
-  auto nb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nl_.neighbors);
+  // Full neighbour sets on the host (the device list holds each pair once).
+  auto half_off = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nl_.offsets);
+  auto half_nb = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), nl_.neighbors);
+  std::vector<std::vector<int>> partners(n_);
+  for (int i = 0; i < n_; ++i)
+    for (int s = half_off(i); s < half_off(i + 1); ++s) {
+      partners[i].push_back(half_nb(s));
+      partners[half_nb(s)].push_back(i);
+    }
+  std::vector<int> off(n_ + 1, 0), nb;
+  for (int i = 0; i < n_; ++i) {
+    nb.insert(nb.end(), partners[i].begin(), partners[i].end());
+    off[i + 1] = static_cast<int>(nb.size());
+  }
   int worst = -1;
   double worst_score = -1;
   std::string neighbours;
@@ -167,8 +179,8 @@ std::string Simulation<Law, ExecSpace>::diagnose(const std::string& what) {
     const Vec3 xi{x(i, 0), x(i, 1), x(i, 2)};
     const Vec3 vi{v(i, 0), v(i, 1), v(i, 2)};
     double score = std::isfinite(norm2(xi) + norm2(vi)) ? 0 : 1e300;
-    for (int s = off(i); s < off(i + 1) && score < 1e300; ++s) {
-      const int j = nb(s);
+    for (int s = off[i]; s < off[i + 1] && score < 1e300; ++s) {
+      const int j = nb[s];
       const double ov = r(i) + r(j) - norm(cfg_.domain.minimum_image(Vec3{x(j, 0), x(j, 1), x(j, 2)} - xi));
       score = std::max(score, ov / std::min(r(i), r(j)));
     }
@@ -184,8 +196,8 @@ std::string Simulation<Law, ExecSpace>::diagnose(const std::string& what) {
         << ") velocity (" << v(worst, 0) << ", " << v(worst, 1) << ", " << v(worst, 2) << "), radius " << r(worst)
         << "; neighbours (id:overlap/radius)";
     int shown = 0;
-    for (int s = off(worst); s < off(worst + 1) && shown < 8; ++s, ++shown) {
-      const int j = nb(s);
+    for (int s = off[worst]; s < off[worst + 1] && shown < 8; ++s, ++shown) {
+      const int j = nb[s];
       const double ov = r(worst) + r(j) -
                         norm(cfg_.domain.minimum_image(Vec3{x(j, 0), x(j, 1), x(j, 2)} - Vec3{x(worst, 0), x(worst, 1), x(worst, 2)}));
       msg << " " << id(j) << ":" << ov / std::min(r(worst), r(j));
@@ -336,8 +348,7 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   const auto& hist = need(c.reals, "nl_history");
   const int slots = static_cast<int>(neigh.size());
   nl_.offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_offsets", n_ + 1);
-  nl_.neighbors = Kokkos::View<int*, Mem>("cgdem::kernels::nl_neighbors", static_cast<int>(slots * 1.2) + 64);
-  nl_.history = HistoryView("cgdem::kernels::nl_history", H > 0 ? nl_.neighbors.extent(0) : 0, H);
+  nl_.reserve(static_cast<int>(slots * 1.2) + 64);
   detail::from_vector(nl_.offsets, offs, "nl_offsets");
   {
     auto h = Kokkos::create_mirror_view(nl_.neighbors);
@@ -347,6 +358,7 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
     for (std::size_t k = 0; k < hist.size(); ++k) hh.data()[k] = hist[k];
     Kokkos::deep_copy(nl_.history, hh);
   }
+  nl_.build_partners(n_);
   nl_.num_slots = slots;
   builds_ = static_cast<long>(need(c.scalars, "builds"));
   step_ = c.step;

@@ -17,6 +17,7 @@ namespace cgdem::models {
 
 struct CapillaryBridge {
   static constexpr int history_size = 1;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "capillary";
 
   KOKKOS_INLINE_FUNCTION static Real liquid_volume(const PairParameters& p, Real V_i, Real V_j) {

@@ -4,7 +4,9 @@
 //   Adhesion    -> an attractive normal force added to the normal law's (NoAdhesion, Dmt, JkrSimplified, CapillaryBridge)
 //   Tangential  -> tangential force from its own spring history (NoFriction, MindlinTangential)
 //   Rolling     -> a resisting torque (NoRolling, RollingConstantTorque, RollingSpringDashpot)
-// Each component declares `static constexpr int history_size` (Reals per contact it keeps), a host-side
+// Each component declares `static constexpr int history_size` (Reals per contact it keeps),
+// `static constexpr bool history_antisymmetric` (its history changes sign when the pair is seen from the
+// other particle, like a tangential displacement; scalars such as a bond flag do not), a host-side
 // `static Real interaction_range(const PairParameters&, Real R_i, Real R_j)` (how far beyond touching it
 // may still act; the neighbour cut-off follows the longest), and a const device call operator.
 // A component with history_size 0 stores nothing; ContactLaw::history_size is the sum.
@@ -18,6 +20,7 @@ namespace cgdem::models {
 // Empty components: compile away.
 struct NoAdhesion {
   static constexpr int history_size = 0;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "none";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
   // Returns the attractive force (>= 0, pulling i toward j); may raise nr.friction_load.
@@ -28,6 +31,7 @@ struct NoAdhesion {
 
 struct NoFriction {
   static constexpr int history_size = 0;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "none";
   KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters&, const PairState&, const NormalResult&, Real*) const {
     return Vec3{};
@@ -36,9 +40,11 @@ struct NoFriction {
 
 struct NoRolling {
   static constexpr int history_size = 0;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "none";
-  KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters&, const PairState&, const NormalResult&, Real*) const {
-    return Vec3{};
+  KOKKOS_INLINE_FUNCTION RollingTorque operator()(const PairParameters&, const PairState&, const NormalResult&,
+                                                  Real*) const {
+    return RollingTorque{};
   }
 };
 
@@ -68,6 +74,20 @@ struct ContactLaw {
   Tangential tangential;
   Rolling rolling;
 
+  // The pair's history as the other particle would keep it: the neighbour list stores each pair once,
+  // under whichever particle comes first, and that owner can change when the store is reordered.
+  KOKKOS_INLINE_FUNCTION static void flip_history(Real* h) {
+    flip<Normal>(h + normal_offset);
+    flip<Adhesion>(h + adhesion_offset);
+    flip<Tangential>(h + tangential_offset);
+    flip<Rolling>(h + rolling_offset);
+  }
+  template <class Component>
+  KOKKOS_INLINE_FUNCTION static void flip(Real* h) {
+    if constexpr (Component::history_antisymmetric)
+      for (int k = 0; k < Component::history_size; ++k) h[k] = -h[k];
+  }
+
   static Real interaction_range(const PairParameters& p, Real R_i, Real R_j) {
     const Real a = Normal::interaction_range(p, R_i, R_j);
     const Real b = Adhesion::interaction_range(p, R_i, R_j);
@@ -89,11 +109,14 @@ struct ContactLaw {
     }
     out.active = true;
     const Vec3 ft = tangential(p, s, nr, history + tangential_offset);
-    const Vec3 rolling_torque = rolling(p, s, nr, history + rolling_offset);
+    const RollingTorque rolling_torque = rolling(p, s, nr, history + rolling_offset);
     out.force = (attraction - nr.force) * s.normal + ft;
-    // Lever arm from i's centre to the contact point: (R_i - overlap/2) n.
-    const Real lever = s.radius_i - 0.5 * (s.overlap > 0 ? s.overlap : 0);
-    out.torque = cross(lever * s.normal, ft) + rolling_torque;
+    // Lever arms from the centres to the contact point: (R_i - overlap/2) n and -(R_j - overlap/2) n;
+    // j feels -ft, so both tangential torques are lever * (n x ft).
+    const Real half = 0.5 * (s.overlap > 0 ? s.overlap : 0);
+    const Vec3 n_x_ft = cross(s.normal, ft);
+    out.torque = (s.radius_i - half) * n_x_ft + rolling_torque.on_i;
+    out.torque_j = (s.radius_j - half) * n_x_ft + rolling_torque.on_j;
     return out;
   }
 };

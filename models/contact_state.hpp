@@ -16,7 +16,8 @@ struct PairState {
   Vec3 normal;            // unit, i -> j
   Vec3 tangential_velocity;  // tangential part of the velocity of i's surface relative to j's at the contact point
   Vec3 relative_rotation;    // omega_i - omega_j
-  Vec3 omega_i;              // i's own angular velocity (constant directional torque rolling)
+  Vec3 omega_i;              // the particles' own angular velocities (constant directional torque rolling)
+  Vec3 omega_j;              // zero for a wall
   Real radius_i = 0;
   Real radius_j = 0;         // 0 for a wall
   Real radius_eff = 0;       // R*
@@ -31,9 +32,14 @@ struct PairState {
 };
 
 struct ContactForce {
-  Vec3 force;         // total force on i
-  Vec3 torque;        // torque on i about its centre, lever arm included
+  Vec3 force;          // total force on i (j gets exactly -force)
+  Vec3 torque;         // torque on i about its centre, lever arm included
+  Vec3 torque_j;       // torque on j about its centre (a half neighbour list evaluates each pair once)
   bool active = false; // counts as a contact (touching, or bonded across a gap)
+};
+
+struct RollingTorque {
+  Vec3 on_i, on_j;
 };
 
 // Output of a normal law, consumed by the tangential, adhesion and rolling components.

@@ -11,6 +11,7 @@ namespace cgdem::models {
 
 struct Dmt {
   static constexpr int history_size = 0;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "dmt";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
 

@@ -26,6 +26,7 @@ namespace cgdem::models {
 
 struct JkrFull {
   static constexpr int history_size = 2;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "jkr";
 
   // The widest gap a bonded pair survives: |delta_S| = 1.1906 (pi^2 gamma^2 R*/E*^2)^(1/3).

@@ -14,6 +14,7 @@ namespace cgdem::models {
 
 struct JkrSimplified {
   static constexpr int history_size = 0;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "jkr_simplified";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
 

@@ -22,6 +22,7 @@ namespace cgdem::models {
 
 struct LinearEepa {
   static constexpr int history_size = 1;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "eepa_linear";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
 

@@ -8,6 +8,7 @@ namespace cgdem::models {
 
 struct LinearSpringDashpot {
   static constexpr int history_size = 0;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "linear";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
 

@@ -11,6 +11,7 @@ namespace cgdem::models {
 
 struct MindlinTangential {
   static constexpr int history_size = 3;
+  static constexpr bool history_antisymmetric = true;
   static constexpr const char* name = "mindlin";
 
   KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters& p, const PairState& s, const NormalResult& nr,

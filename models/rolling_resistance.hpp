@@ -14,13 +14,18 @@ namespace cgdem::models {
 // relative rotation omega_i - omega_j of the common CDT variant. Zero when omega_i = 0. No history.
 struct RollingConstantTorque {
   static constexpr int history_size = 0;
+  static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "constant_torque";
 
-  KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters& p, const PairState& s, const NormalResult& nr,
-                                         Real*) const {
-    const Real w = norm(s.omega_i);
-    if (!(w > 0)) return Vec3{};
-    return (-p.mu_roll * nr.friction_load * s.radius_i / w) * s.omega_i;
+  KOKKOS_INLINE_FUNCTION RollingTorque operator()(const PairParameters& p, const PairState& s, const NormalResult& nr,
+                                                  Real*) const {
+    // Each particle's torque opposes its own rotation (not antisymmetric: computed for both sides).
+    RollingTorque t;
+    const Real load = p.mu_roll * nr.friction_load;
+    const Real wi = norm(s.omega_i), wj = norm(s.omega_j);
+    if (wi > 0) t.on_i = (-load * s.radius_i / wi) * s.omega_i;
+    if (wj > 0) t.on_j = (-load * s.radius_j / wj) * s.omega_j;
+    return t;
   }
 };
 
@@ -37,10 +42,11 @@ struct RollingConstantTorque {
 // History (3 Reals): accumulated relative rolling rotation theta_r (rad, a tangent-plane vector).
 struct RollingSpringDashpot {
   static constexpr int history_size = 3;
+  static constexpr bool history_antisymmetric = true;  // a relative rotation angle
   static constexpr const char* name = "spring_dashpot";
 
-  KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters& p, const PairState& s, const NormalResult& nr,
-                                         Real* h) const {
+  KOKKOS_INLINE_FUNCTION RollingTorque operator()(const PairParameters& p, const PairState& s, const NormalResult& nr,
+                                                  Real* h) const {
     const Real k_r = 2.25 * nr.stiffness * p.mu_roll * p.mu_roll * s.radius_eff * s.radius_eff;
     const Real limit = p.mu_roll * s.radius_eff * nr.friction_load;
     Vec3 theta{h[0], h[1], h[2]};
@@ -67,7 +73,7 @@ struct RollingSpringDashpot {
     h[0] = theta.x;
     h[1] = theta.y;
     h[2] = theta.z;
-    return torque;
+    return RollingTorque{torque, -torque};  // acts on the relative rotation: equal and opposite
   }
 };
 

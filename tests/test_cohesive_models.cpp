@@ -613,12 +613,12 @@ TEST(RollingResistance, ConstantTorqueOpposesOwnRotation) {
   nr.active = true;
   s.omega_i = Vec3{0, 3, 4};
   s.relative_rotation = s.omega_i; // omega_j = 0
-  const Vec3 t = RollingConstantTorque{}(p, s, nr, nullptr);
+  const Vec3 t = RollingConstantTorque{}(p, s, nr, nullptr).on_i;
   EXPECT_LT(dot(t, s.relative_rotation), 0);
   EXPECT_LT(rel(norm(t), 0.1 * 2 * 1e-3), 1e-14);
   EXPECT_NEAR(t.y / t.z, 0.75, 1e-14);
   s.omega_i = Vec3{};
-  EXPECT_EQ(norm(RollingConstantTorque{}(p, s, nr, nullptr)), 0);
+  EXPECT_EQ(norm(RollingConstantTorque{}(p, s, nr, nullptr).on_i), 0);
   std::printf("constant torque: |tau| = %.6g N m (mu_r |F_n| R_i = %.6g)\n", norm(t), 0.1 * 2 * 1e-3);
 }
 
@@ -641,8 +641,10 @@ TEST(RollingResistance, SpringOpposesRelativeRotationAndCaps) {
   Real h[3] = {0, 0, 0}, hj[3] = {0, 0, 0};
   int steps_to_cap = -1;
   for (int k = 1; k <= 100; ++k) {
-    const Vec3 t = RollingSpringDashpot{}(p, s, nr, h);
-    const Vec3 tj = RollingSpringDashpot{}(p, sj, nr, hj);
+    const RollingTorque both = RollingSpringDashpot{}(p, s, nr, h);
+    const Vec3 t = both.on_i;
+    EXPECT_EQ(both.on_j.y, -t.y);
+    const Vec3 tj = RollingSpringDashpot{}(p, sj, nr, hj).on_i;
     EXPECT_LT(dot(t, s.relative_rotation), 0);
     EXPECT_EQ(t.x, 0);
     EXPECT_EQ(tj.y, -t.y);
@@ -661,7 +663,7 @@ TEST(RollingResistance, SpringOpposesRelativeRotationAndCaps) {
   ASSERT_GT(steps_to_cap, 1);
   // Reversing the rotation unloads elastically from the cap.
   s.relative_rotation = Vec3{0, -1, 0};
-  const Vec3 back = RollingSpringDashpot{}(p, s, nr, h);
+  const Vec3 back = RollingSpringDashpot{}(p, s, nr, h).on_i;
   EXPECT_LT(rel(back.y, -(cap - k_r * s.dt)), 1e-10);
   std::printf("rolling spring: k_r = %.4g N m/rad, cap mu_r R* |F_n| = %.4g N m reached after %d steps\n",
               k_r, cap, steps_to_cap);
