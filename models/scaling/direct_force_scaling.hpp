@@ -62,6 +62,7 @@ KOKKOS_INLINE_FUNCTION PairState original_state(const PairState& s, Real l) {
   // overlap_rate and tangential_velocity: v_O = v_S and omega_O R_O = omega_S R_S.
   o.relative_rotation = l * s.relative_rotation;
   o.omega_i = l * s.omega_i;
+  o.omega_j = l * s.omega_j;
   o.radius_i = s.radius_i / l;
   o.radius_j = s.radius_j / l;
   o.radius_eff = s.radius_eff / l;
@@ -82,6 +83,10 @@ struct DirectForceScaling {
 
   Law law;
 
+  // The wrapped law keeps its history in original-particle units; seen from the other particle it
+  // flips exactly as the wrapped law's does.
+  KOKKOS_INLINE_FUNCTION static void flip_history(Real* h) { Law::flip_history(h); }
+
   // Coarse reach: the original pair's (radii / l) stretched back by l^overlap_power. l is the pair table's
   // coarse_grain_factor (core/scaling.cpp); the Simulation takes the maximum over all table entries.
   static Real interaction_range(const PairParameters& p, Real R_i, Real R_j) {
@@ -98,6 +103,7 @@ struct DirectForceScaling {
       ContactForce cf = law(p, o, history);
       cf.force *= power(l, Method::force_power);
       cf.torque *= power(l, Method::torque_power);
+      cf.torque_j *= power(l, Method::torque_power);
       return cf;
     } else {
       // The adhesion component scales differently (Sakai): the wrapped ContactLaw's composition, with the
@@ -117,10 +123,12 @@ struct DirectForceScaling {
       }
       out.active = true;
       const Vec3 ft = law.tangential(p, o, nr, history + Law::tangential_offset);
-      const Vec3 rolling_torque = law.rolling(p, o, nr, history + Law::rolling_offset);
+      const RollingTorque rolling_torque = law.rolling(p, o, nr, history + Law::rolling_offset);
       out.force = (fa * attraction - fc * nr.force) * o.normal + fc * ft;
-      const Real lever = o.radius_i - 0.5 * (o.overlap > 0 ? o.overlap : 0);
-      out.torque = ft_scale * (cross(lever * o.normal, ft) + rolling_torque);
+      const Real half = 0.5 * (o.overlap > 0 ? o.overlap : 0);
+      const Vec3 n_x_ft = cross(o.normal, ft);
+      out.torque = ft_scale * ((o.radius_i - half) * n_x_ft + rolling_torque.on_i);
+      out.torque_j = ft_scale * ((o.radius_j - half) * n_x_ft + rolling_torque.on_j);
       return out;
     }
   }
