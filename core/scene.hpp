@@ -108,6 +108,9 @@ struct TimeSpec {
   double step = 0;            // 0 = auto
   double fraction = 0.2;      // of the estimated stable step when auto
   bool force_step = false;    // allow a given step above the stable estimate
+  // Cap the auto step so JKR snap-in/snap-off jumps are resolved (v dt <= 2e-3 u: collision energy within
+  // 1% of W_s). Off by default: for bulk flows it costs orders of magnitude in steps (docs/stability.md).
+  bool resolve_adhesion = false;
 };
 
 struct OutputSpec {

@@ -58,7 +58,8 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   TimeStepEstimate e;
   e.rayleigh_time = inf;
   e.contact_time = inf;
-  std::string tr_material, tc_pair;
+  std::string tr_material, tc_pair, accuracy_pair;
+  double accuracy = inf;
   const bool linear = scene.contact.normal == "linear";
   const bool eepa = scene.contact.normal == "eepa";
   // Parameters the limit is evaluated with, for an original pair P at pair factor k.
@@ -121,6 +122,17 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
       else if (p.E_eff > 0)
         tc = hertz_contact_time(m_eff, r_eff, p.E_eff, speed);
       if (law == ScalingLaw::HuMethod1) tc *= k;
+      const models::PairParameters adh = evaluated(mix_pair(ma, mb, !wall || scene.contact.wall_adhesion), k);
+      if (scene.contact.normal == "jkr" && adh.surface_energy > 0 && adh.E_eff > 0) {
+        // JKR length scale u = (pi^2 gamma^2 R* / E*^2)^(1/3); relative speeds reach twice a particle's.
+        const double u =
+            std::cbrt(M_PI * M_PI * adh.surface_energy * adh.surface_energy * r_eff / (adh.E_eff * adh.E_eff));
+        const double step = 2e-3 * u / (2 * speed) * (law == ScalingLaw::HuMethod1 ? k : 1.0);
+        if (step < accuracy) {
+          accuracy = step;
+          accuracy_pair = slot_name(a) + (wall ? "-wall " + mb.name : "-" + slot_name(b));
+        }
+      }
       if (tc < e.contact_time) {
         e.contact_time = tc;
         tc_pair = slot_name(a) + (wall ? "-wall " + mb.name : "-" + slot_name(b));
@@ -157,6 +169,7 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   }
   const double by_rayleigh = 0.3 * e.rayleigh_time, by_contact = e.contact_time / 10;
   e.limit = std::min(by_rayleigh, by_contact);
+  e.accuracy_step = accuracy;
   std::ostringstream why;
   if (by_contact <= by_rayleigh)
     why << "contact time / 10 of " << tc_pair << " (" << scene.contact.normal << ", t_c = " << e.contact_time
@@ -173,6 +186,12 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
     e.step = scene.time.fraction * e.limit;
     std::ostringstream r;
     r << "auto: " << scene.time.fraction << " x " << e.limit << " s, the " << why.str();
+    if (scene.time.resolve_adhesion && accuracy < e.step) {
+      e.step = accuracy;
+      r.str("");
+      r << "auto: JKR snap-in/snap-off resolution of " << accuracy_pair << " (v dt = 2e-3 u at "
+        << 2 * speed << " m/s; stable limit " << e.limit << " s from " << why.str() << ")";
+    }
     e.reason = r.str();
   }
   return e;

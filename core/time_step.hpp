@@ -17,6 +17,9 @@ struct TimeStepEstimate {
   double rayleigh_time = 0; // smallest over particle materials
   double contact_time = 0;  // shortest over material pairs
   double limit = 0;         // min(0.3 T_R, t_c / 10)
+  // Accuracy cap of the auto step for laws with force jumps (JKR snap-in/snap-off): v dt <= 2e-3 u keeps
+  // the energy lost in a collision within 1% of W_s (docs/stability.md). Not a stability limit.
+  double accuracy_step = 0;
   double step = 0;          // what the run uses
   std::string reason;       // one line: which law and material set it, and the coarse-graining rule
   std::string rule;         // the coarse-graining time-step rule alone ("" without coarse-graining)

@@ -65,6 +65,12 @@ PreparedRun prepare(const RunOptions& o) {
   PreparedRun p;
   p.scene = parse_scene_file(o.scene, o.overrides);
   p.particles = generate_particles(p.scene);
+  if (p.scene.stability.relax_initial_overlaps) {
+    const RelaxReport r = relax_overlaps(p.scene, p.particles);
+    if (r.initial_max_overlap > 0)
+      std::fprintf(stderr, "relaxed initial overlaps: largest %.3g -> %.3g of the smaller radius in %d sweeps\n",
+                   r.initial_max_overlap, r.final_max_overlap, r.sweeps);
+  }
   check_particles(p.scene, p.particles);
   p.dt = estimate_time_step(p.scene, p.particles);
   if (p.scene.time.step > 0 && p.scene.time.step > p.dt.limit && !p.scene.time.force_step) {

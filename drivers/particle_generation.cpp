@@ -696,3 +696,80 @@ void check_particles(const Scene& scene, const ParticleSet& ps) {
 }
 
 } // namespace cgdem
+
+namespace cgdem {
+
+// Opt-in removal of initial particle-particle overlaps (stability.relax_initial_overlaps): positions
+// only, velocities untouched, so no energy is injected (the elastic energy the overlaps would have
+// released is simply not created). Jacobi sweeps push both partners apart by half the overlap along the
+// line of centres (minimum image on periodic axes) until the largest overlap is below 1e-6 of the
+// smaller radius. Walls are not considered.
+RelaxReport relax_overlaps(const Scene& scene, ParticleSet& ps) {
+  RelaxReport report;
+  const std::size_t n = ps.size();
+  if (n == 0) return report;
+  const DomainSpec& d = scene.domain;
+  double rmax = 0;
+  for (double r : ps.radius) rmax = std::max(rmax, r);
+  const double cell = 2 * rmax;
+  std::array<long, 3> dims{};
+  for (int a = 0; a < 3; ++a) dims[a] = std::max(1L, static_cast<long>((d.hi[a] - d.lo[a]) / cell));
+  auto axis_cell = [&](double x, int a) {
+    long c = static_cast<long>((x - d.lo[a]) / (d.hi[a] - d.lo[a]) * dims[a]);
+    return std::min(std::max(c, 0L), dims[a] - 1);
+  };
+  std::vector<Vec3d> shift(n);
+  for (int sweep = 0; sweep < 500; ++sweep) {
+    std::unordered_map<long, std::vector<std::size_t>> grid;
+    std::vector<std::array<long, 3>> at(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) at[i][a] = axis_cell(ps.position[i][a], a);
+      grid[(at[i][2] * dims[1] + at[i][1]) * dims[0] + at[i][0]].push_back(i);
+    }
+    std::fill(shift.begin(), shift.end(), Vec3d{0, 0, 0});
+    double worst = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      for (long dz = -1; dz <= 1; ++dz)
+        for (long dy = -1; dy <= 1; ++dy)
+          for (long dx = -1; dx <= 1; ++dx) {
+            std::array<long, 3> c{at[i][0] + dx, at[i][1] + dy, at[i][2] + dz};
+            bool skip = false;
+            for (int a = 0; a < 3; ++a) {
+              if (c[a] >= 0 && c[a] < dims[a]) continue;
+              if (!d.periodic[a] || dims[a] < 3) skip = true;
+              c[a] = (c[a] + dims[a]) % dims[a];
+            }
+            if (skip) continue;
+            const auto it = grid.find((c[2] * dims[1] + c[1]) * dims[0] + c[0]);
+            if (it == grid.end()) continue;
+            for (std::size_t j : it->second) {
+              if (j <= i) continue;
+              Vec3d dv;
+              double dist2 = 0;
+              for (int a = 0; a < 3; ++a) {
+                double x = ps.position[j][a] - ps.position[i][a];
+                if (d.periodic[a]) x -= (d.hi[a] - d.lo[a]) * std::round(x / (d.hi[a] - d.lo[a]));
+                dv[a] = x;
+                dist2 += x * x;
+              }
+              const double overlap = ps.radius[i] + ps.radius[j] - std::sqrt(dist2);
+              if (overlap <= 0 || dist2 == 0) continue;
+              worst = std::max(worst, overlap / std::min(ps.radius[i], ps.radius[j]));
+              const double push = 0.5 * overlap * (1 + 1e-6) / std::sqrt(dist2);
+              for (int a = 0; a < 3; ++a) {
+                shift[i][a] -= push * dv[a];
+                shift[j][a] += push * dv[a];
+              }
+            }
+          }
+    if (sweep == 0) report.initial_max_overlap = worst;
+    report.final_max_overlap = worst;
+    report.sweeps = sweep;
+    if (worst < 1e-6) break;
+    for (std::size_t i = 0; i < n; ++i)
+      for (int a = 0; a < 3; ++a) ps.position[i][a] += shift[i][a];
+  }
+  return report;
+}
+
+} // namespace cgdem

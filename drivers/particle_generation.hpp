@@ -24,4 +24,12 @@ ParticleSet generate_particles(const Scene& scene);
 // stability.relax_initial_overlaps is true, except for coincident centres). O(N) with a cell grid.
 void check_particles(const Scene& scene, const ParticleSet& particles);
 
+// Opt-in (stability.relax_initial_overlaps): move particles apart until no two overlap (positions only,
+// no energy injected; walls not considered). Returns the largest overlap / smaller radius before and after.
+struct RelaxReport {
+  double initial_max_overlap = 0, final_max_overlap = 0;
+  int sweeps = 0;
+};
+RelaxReport relax_overlaps(const Scene& scene, ParticleSet& particles);
+
 } // namespace cgdem

@@ -770,7 +770,7 @@ struct Parser {
   }
 
   void parse_time(const Field& f) {
-    MapView m(ctx, f, {"end", "step", "fraction", "force_step"});
+    MapView m(ctx, f, {"end", "step", "fraction", "force_step", "resolve_adhesion"});
     TimeSpec& t = scene.time;
     const Field ef = m.require("end", "give the simulated end time in s, e.g. end: 0.5");
     t.end = as_num(ctx, ef);
@@ -795,6 +795,7 @@ struct Parser {
             "fraction " + num_str(t.fraction) + " is outside (0, 1]",
             "give the fraction of the stable time step, typically 0.1-0.3");
     opt_bool(ctx, m, "force_step", t.force_step);
+    opt_bool(ctx, m, "resolve_adhesion", t.resolve_adhesion);
   }
 
   void parse_output(const Field& f) {

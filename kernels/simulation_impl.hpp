@@ -149,6 +149,25 @@ void Simulation<Law, ExecSpace>::check_overlaps() {
                   cfg_.max_overlap_fraction);
     throw BlowUpError(diagnose(what));
   }
+  // An exploding pack need not overlap much at the moment of the check: particles flying apart faster
+  // than half a radius per step can no longer resolve any contact.
+  const auto p = store_;
+  const Real dt = cfg_.dt;
+  Real travel = 0;
+  Kokkos::parallel_reduce(
+      "cgdem::kernels::max_step_travel", Kokkos::RangePolicy<ExecSpace>(0, n_),
+      KOKKOS_LAMBDA(int i, Real& w) {
+        const Real t = norm(load3(p.velocity, i)) * dt / p.radius(i);
+        if (t > w) w = t;
+      },
+      Kokkos::Max<Real>(travel));
+  if (!(travel <= 0.5)) {
+    char what[200];
+    std::snprintf(what, sizeof what,
+                  "a particle moves %.3g of its radius per step (limit 0.5): contacts can no longer be resolved",
+                  travel);
+    throw BlowUpError(diagnose(what));
+  }
 }
 
 // Find the worst particle on the host and say what probably happened.
@@ -184,6 +203,7 @@ std::string Simulation<Law, ExecSpace>::diagnose(const std::string& what) {
       const double ov = r(i) + r(j) - norm(cfg_.domain.minimum_image(Vec3{x(j, 0), x(j, 1), x(j, 2)} - xi));
       score = std::max(score, ov / std::min(r(i), r(j)));
     }
+    score = std::max(score, norm(vi) * cfg_.dt / r(i));  // fast particles count as suspects too
     if (score > worst_score) {
       worst_score = score;
       worst = i;

@@ -48,13 +48,15 @@ inline void add_particle(ParticleSet& p, const Vec3d& x, const Vec3d& v, double 
   p.group.push_back(0);
 }
 
-inline std::unique_ptr<Engine> make(const Scene& scene, const ParticleSet& p, double dt, const std::string& backend = "openmp",
+// Backend "auto": Serial for a few particles (a handful of pairs gains nothing from threads and pays a
+// barrier per kernel), OpenMP otherwise. Trajectories are identical either way.
+inline std::unique_ptr<Engine> make(const Scene& scene, const ParticleSet& p, double dt, const std::string& backend = "auto",
                                     double skin = -1) {
   TimeStepEstimate e = estimate_time_step(scene, p);
   e.step = dt;
   EngineConfig c = make_engine_config(scene, p, e);
   if (skin >= 0) c.skin = skin;
-  return make_engine(c, backend);
+  return make_engine(c, backend != "auto" ? backend : (p.size() < 1000 ? "serial" : "openmp"));
 }
 
 // Random non-overlapping spheres in a periodic cube (simple rejection with a brute-force check; tests only).
