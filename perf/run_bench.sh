@@ -5,7 +5,7 @@
 #   perf/run_bench.sh [benchmark filter, e.g. '/10/' or '/50/|/200/']
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
-bench="$repo/build/perf/bench_settled_bed"
+bench="${BENCH:-$repo/build/perf/bench_settled_bed}"
 [ -x "$bench" ] || bash "$repo/scripts/build.sh"
 filter=${1:-.}
 echo "machine: $(lscpu | sed -n 's/^Model name: *//p'), $(nproc) cores; $(date -u +%Y-%m-%d)"
