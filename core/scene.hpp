@@ -42,6 +42,9 @@ struct ContactSpec {
   std::string tangential = "mindlin";   // mindlin | none
   std::string rolling = "none";         // none | constant_torque | spring_dashpot
   bool wall_adhesion = true;            // false: particle-wall pairs get no surface energy / liquid
+  // Full JKR: a bonded pair separates at delta_S (JKR theory, physics.md) or, as LAMMPS' jkr model
+  // does, at the pull-off point delta_C (for comparisons with LAMMPS-based studies).
+  std::string jkr_separation = "delta_s";  // delta_s | pull_off
   // Direct force scaling wrapping the whole law (models/scaling/direct_force_scaling.hpp): none |
   // hu_method1 | hu_method2 | hu_method3 | sakai. Not a YAML key: derived from the groups' coarse_grain.law
   // by effective_contact() (core/scaling.hpp); the compiled name gets "@<method>".

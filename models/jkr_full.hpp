@@ -47,8 +47,11 @@ struct JkrFull {
     const jkr::Scales sc = jkr::scales(p.surface_energy, p.E_eff, s.radius_eff);
     const Real d = s.overlap / sc.u;
     const bool bonded = h[0] > 0.5;
-    // Unbonded: nothing until the surfaces touch. Bonded: separation only below delta_S.
-    if ((!bonded && s.overlap < 0) || (bonded && d < jkr::d_S)) {
+    // Unbonded: nothing until the surfaces touch. Bonded: separation only below delta_S (or below the
+    // pull-off point delta_C = x_C^2 - 2 sqrt(x_C) with LAMMPS' rule).
+    const Real d_separation =
+        p.jkr_separate_at_pull_off > 0 ? jkr::x_C * jkr::x_C - 2 * math::sqrt(jkr::x_C) : jkr::d_S;
+    if ((!bonded && s.overlap < 0) || (bonded && d < d_separation)) {
       h[0] = 0;
       h[1] = 0;
       return r;

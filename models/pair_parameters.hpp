@@ -27,6 +27,8 @@ struct PairParameters {
   Real eepa_k2 = 0;
   Real eepa_k_adh = 0;
   Real eepa_f0 = 0;
+  // Full JKR separation rule: 0 at delta_S (JKR theory), 1 at the pull-off point delta_C (LAMMPS' rule).
+  Real jkr_separate_at_pull_off = 0;
   // Capillary bridge (Rabinovich-Lambert).
   Real surface_tension = 0;
   Real contact_angle = 0;      // radians

@@ -715,3 +715,22 @@ TEST(CohesiveModels, ComposedLawRunsInKernel) {
     EXPECT_EQ(out_h(i), ref) << i;
   }
 }
+
+// LAMMPS' rule (contact.jkr_separation: pull_off): a bonded pair separates at the pull-off point delta_C
+// = -0.5724 u instead of delta_S; everything before that point is the same curve.
+TEST(JkrFull, PullOffSeparationRuleForLammpsComparisons) {
+  JkrSetup j = setup(jkr_cases[0]);
+  j.p.jkr_separate_at_pull_off = 1;
+  const Real d_C = -0.57235 * j.u;  // physics.md table, 4 digits
+  Real h[2] = {0, 0};
+  EXPECT_TRUE(jkr_at(j, 0, h).active);
+  EXPECT_TRUE(jkr_at(j, d_C * 0.999, h).active);
+  EXPECT_FALSE(jkr_at(j, d_C * 1.001, h).active);
+  EXPECT_EQ(h[0], 0);
+  // The default rule keeps the bond there.
+  j.p.jkr_separate_at_pull_off = 0;
+  Real g[2] = {0, 0};
+  EXPECT_TRUE(jkr_at(j, 0, g).active);
+  EXPECT_TRUE(jkr_at(j, d_C * 1.001, g).active);
+  EXPECT_TRUE(jkr_at(j, 1.19 * (-j.u), g).active);
+}

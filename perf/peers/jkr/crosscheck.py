@@ -65,11 +65,11 @@ def analytic():
                 v_out_s=math.sqrt(V0 ** 2 - 2 * w_s / m_eff), v_out_c=math.sqrt(V0 ** 2 - 2 * w_c / m_eff))
 
 
-def run_cgdem(exe, dt, every, workdir):
+def run_cgdem(exe, dt, every, workdir, separation):
     out = os.path.join(workdir, "cgdem_head_on.h5")
     cmd = [exe, "run", os.path.join(HERE, "head_on.yaml"), "--out", out, "--quiet", "--threads", "1",
            "--set", f"time.step={dt!r}", "--set", f"time.end={END_TIME!r}",
-           "--set", f"output.every={every * dt!r}"]
+           "--set", f"output.every={every * dt!r}", "--set", f"contact.jkr_separation={separation}"]
     t = time.time()
     subprocess.run(cmd, check=True, env=dict(os.environ, OMP_NUM_THREADS="1"))
     wall = time.time() - t
@@ -152,12 +152,15 @@ def main():
     ap.add_argument("--dt", type=float, default=1e-8)
     ap.add_argument("--every", type=int, default=5, help="output interval in steps (both codes)")
     ap.add_argument("--workdir", default=None)
+    ap.add_argument("--separation", default="delta_s", choices=["delta_s", "pull_off"],
+                    help="cgdem's JKR separation rule: delta_s (JKR theory, default) or pull_off (LAMMPS' rule)")
     args = ap.parse_args()
     work = args.workdir or tempfile.mkdtemp(prefix="cgdem_jkr_")
     os.makedirs(work, exist_ok=True)
     a = analytic()
 
-    cg_steps, cg_pos, cg_vel, cg_wall = run_cgdem(args.cgdem, args.dt, args.every, work)
+    cg_steps, cg_pos, cg_vel, cg_wall = run_cgdem(args.cgdem, args.dt, args.every, work, args.separation)
+    print(f"cgdem JKR separation rule: {args.separation}")
     lm_steps, lm_pos, lm_vel, lm_wall = run_lammps(args.lmp, args.dt, args.every, work)
     cg, cg_t, cg_d = measure(cg_steps, cg_pos, cg_vel, args.dt, a)
     lm, lm_t, lm_d = measure(lm_steps, lm_pos, lm_vel, args.dt, a)
