@@ -1,4 +1,5 @@
 #include "core/checkpoint.hpp"
+#include "core/hdf5_guard.hpp"
 
 #include <hdf5.h>
 
@@ -20,22 +21,6 @@ namespace {
 
 constexpr const char* kFormat = "cgdem-checkpoint";
 constexpr std::int32_t kFormatVersion = 1;
-
-class H5Guard {
-public:
-  H5Guard() : lock_(hdf5_mutex()) {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~H5Guard() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  H5Guard(const H5Guard&) = delete;
-  H5Guard& operator=(const H5Guard&) = delete;
-
-private:
-  std::lock_guard<std::mutex> lock_;
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
 
 [[noreturn]] void fail(const std::string& what) {
   std::string detail;

@@ -1,4 +1,5 @@
 #include "core/result_writer.hpp"
+#include "core/hdf5_guard.hpp"
 
 #include <hdf5.h>
 #include <oneapi/tbb/task_arena.h>
@@ -31,23 +32,6 @@ namespace {
 // ---------------------------------------------------------------------------------------------------
 // Small HDF5 helpers (C API). Every function throws std::runtime_error describing what failed; the
 // caller adds the file name.
-
-// Holds the process-wide HDF5 lock and silences HDF5's automatic error printing meanwhile.
-class H5Guard {
-public:
-  H5Guard() : lock_(hdf5_mutex()) {
-    H5Eget_auto2(H5E_DEFAULT, &func_, &data_);
-    H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
-  }
-  ~H5Guard() { H5Eset_auto2(H5E_DEFAULT, func_, data_); }
-  H5Guard(const H5Guard&) = delete;
-  H5Guard& operator=(const H5Guard&) = delete;
-
-private:
-  std::lock_guard<std::mutex> lock_;
-  H5E_auto2_t func_ = nullptr;
-  void* data_ = nullptr;
-};
 
 std::string h5_detail() {
   std::string out;

@@ -31,6 +31,22 @@ bool wants_help(const std::vector<std::string>& args) {
   return false;
 }
 
+// --help or the options of a command; returns an exit code when the command should stop here, else -1.
+int read_options(const std::vector<std::string>& args, const char* command, const char* help, bool run_only,
+                 RunOptions& out) {
+  if (wants_help(args)) {
+    std::cout << help;
+    return 0;
+  }
+  try {
+    out = parse_run_options(args, run_only);
+  } catch (const CliError& e) {
+    std::cerr << "cgdem " << command << ": " << e.what() << "\n";
+    return exit_bad_input;
+  }
+  return -1;
+}
+
 // Kokkos comes up once per process with the requested threads (OpenMP cannot be resized later).
 struct KokkosSession {
   explicit KokkosSession(int threads) {
@@ -123,17 +139,8 @@ std::string checkpoint_path_for(const std::string& h5) {
 } // namespace
 
 int run_command(const std::vector<std::string>& args) {
-  if (wants_help(args)) {
-    std::cout << run_help();
-    return 0;
-  }
   RunOptions o;
-  try {
-    o = parse_run_options(args, true);
-  } catch (const CliError& e) {
-    std::cerr << "cgdem run: " << e.what() << "\n";
-    return exit_bad_input;
-  }
+  if (const int code = read_options(args, "run", run_help(), true, o); code >= 0) return code;
   KokkosSession kokkos(o.threads);
   const std::string backend = o.backend.empty() ? default_backend() : o.backend;
   PreparedRun p;
@@ -249,17 +256,8 @@ int run_command(const std::vector<std::string>& args) {
 }
 
 int check_command(const std::vector<std::string>& args) {
-  if (wants_help(args)) {
-    std::cout << check_help();
-    return 0;
-  }
   RunOptions o;
-  try {
-    o = parse_run_options(args, false);
-  } catch (const CliError& e) {
-    std::cerr << "cgdem check: " << e.what() << "\n";
-    return exit_bad_input;
-  }
+  if (const int code = read_options(args, "check", check_help(), false, o); code >= 0) return code;
   KokkosSession kokkos(1);
   try {
     const PreparedRun p = prepare(o);
