@@ -1,4 +1,5 @@
 #include "drivers/commands.hpp"
+#include "drivers/kokkos_session.hpp"
 #include <Kokkos_Core.hpp>
 #include <chrono>
 #include <cmath>
@@ -46,19 +47,6 @@ int read_options(const std::vector<std::string>& args, const char* command, cons
   }
   return -1;
 }
-
-// Kokkos comes up once per process with the requested threads (OpenMP cannot be resized later).
-struct KokkosSession {
-  explicit KokkosSession(int threads) {
-    // Pinned threads keep each particle range on one core (and quiet Kokkos' warning); users may override.
-    setenv("OMP_PROC_BIND", "spread", 0);
-    setenv("OMP_PLACES", "threads", 0);
-    Kokkos::InitArguments init;
-    if (threads > 0) init.num_threads = threads;
-    Kokkos::initialize(init);
-  }
-  ~KokkosSession() { Kokkos::finalize(); }
-};
 
 std::string default_backend() { return compiled_backends().front(); }
 

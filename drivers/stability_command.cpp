@@ -1,4 +1,5 @@
 #include "drivers/stability_command.hpp"
+#include "drivers/kokkos_session.hpp"
 #include <Kokkos_Core.hpp>
 #include <algorithm>
 #include <cmath>
@@ -60,17 +61,6 @@ bool adhesive(const Scene& s) {
   if (s.contact.normal == "eepa") return true; // hysteretic: energy bookkeeping not exact
   return false;
 }
-
-struct KokkosSession {
-  explicit KokkosSession(int threads) {
-    setenv("OMP_PROC_BIND", "spread", 0);
-    setenv("OMP_PLACES", "threads", 0);
-    Kokkos::InitArguments init;
-    if (threads > 0) init.num_threads = threads;
-    Kokkos::initialize(init);
-  }
-  ~KokkosSession() { Kokkos::finalize(); }
-};
 
 double characteristic_time(const TimeStepEstimate& e) {
   if (std::isfinite(e.rayleigh_time) && e.rayleigh_time > 0) return e.rayleigh_time;
