@@ -615,3 +615,41 @@ TEST(StabilityHardCases, HuPeriodicBoxCriticalStep) {
   EXPECT_LT(res.probes[1].max_change, 1e-4); // 0.14 T_R
   EXPECT_TRUE(std::isfinite(res.unstable_conservative));
 }
+
+TEST(StabilityHardCases, HuPeriodicBoxCriticalStepDoublesWithFactorUnderMethod1) {
+  // Hu et al. 2022 Fig. 20: under Method 1 (forces l^2 F_O from the original overlap delta_S / l) the
+  // scaled-up box, grown with l so that it holds the same number of particles at the same packing, goes
+  // unstable at l times the original's step. The probes are placed at the same fractions of each system's
+  // own Rayleigh time (l x the original's), so an exactly similar system finds exactly l times the step.
+  const double r = 0.25e-3, rho = 1000, E = 100e6, nu = 0.3;
+  const int n = 1000;
+  const double box = std::cbrt(n * 4.0 / 3.0 * M_PI * r * r * r / 0.3); // solid fraction 0.3
+  const double tr = rayleigh_time(r, rho, E, nu);                       // of the original particles
+  double critical[3] = {0, 0, 0};
+  const double factors[3] = {1, 2, 4};
+  for (int q = 0; q < 3; ++q) {
+    const double l = factors[q];
+    const ParticleSet p = random_periodic(n, l * box, l * r, l * r, rho, 1.0, 9);
+    ASSERT_EQ(static_cast<int>(p.size()), n);
+    Scene s = periodic(l * box, material("hu7", rho, E, nu, 1.0, 0.0), "mindlin");
+    s.groups[0].coarse_grain.law = "hu_method1";
+    s.groups[0].coarse_grain.factor = l;
+    StabilitySettings set;
+    set.steps = 1000;
+    set.backend = "serial";
+    set.given = false;
+    set.refine = 3;
+    for (double f : {0.4, 0.7, 1.0, 1.4})
+      set.dts.push_back(f * l * tr);
+    const StabilityResult res = stability_scan(s, p, set);
+    critical[q] = res.critical_conservative;
+    ASSERT_GT(critical[q], 0) << "l=" << l;
+    std::printf("[ report ] Hu box, Method 1, l = %g: largest stable step %.4g s = %.3f T_R of the original "
+                "(first unstable %.3f)\n",
+                l, critical[q], critical[q] / tr, res.unstable_conservative / tr);
+  }
+  EXPECT_NEAR(critical[1] / critical[0], 2.0, 0.2); // Done-when: doubles within 10%
+  EXPECT_NEAR(critical[2] / critical[1], 2.0, 0.2);
+  std::printf("[ report ] critical step ratios: l 1 -> 2: %.4f, l 2 -> 4: %.4f\n", critical[1] / critical[0],
+              critical[2] / critical[1]);
+}
