@@ -45,6 +45,9 @@ struct ContactSpec {
   // Full JKR: a bonded pair separates at delta_S (JKR theory, physics.md) or, as LAMMPS' jkr model
   // does, at the pull-off point delta_C (for comparisons with LAMMPS-based studies).
   std::string jkr_separation = "delta_s";  // delta_s | pull_off
+  // Lever arm of tangential forces (and the contact point of the slip velocity): R - overlap/2
+  // (contact_point) or R (radius, which makes Chen-Elliott's torque scaling k^4 exact).
+  std::string lever_arm = "contact_point";  // contact_point | radius
   // Direct force scaling wrapping the whole law (models/scaling/direct_force_scaling.hpp): none |
   // hu_method1 | hu_method2 | hu_method3 | sakai. Not a YAML key: derived from the groups' coarse_grain.law
   // by effective_contact() (core/scaling.hpp); the compiled name gets "@<method>".

@@ -435,7 +435,8 @@ struct Parser {
   }
 
   void parse_contact(const Field& f) {
-    MapView m(ctx, f, {"normal", "adhesion", "tangential", "rolling", "wall_adhesion", "jkr_separation"});
+    MapView m(ctx, f, {"normal", "adhesion", "tangential", "rolling", "wall_adhesion", "jkr_separation",
+                                 "lever_arm"});
     ContactSpec& c = scene.contact;
     if (m.has("normal")) c.normal = as_choice(ctx, m.get("normal"), kNormalLaws, "normal law");
     if (m.has("adhesion")) c.adhesion = as_choice(ctx, m.get("adhesion"), kAdhesionLaws, "adhesion law");
@@ -445,6 +446,8 @@ struct Parser {
     opt_bool(ctx, m, "wall_adhesion", c.wall_adhesion);
     if (m.has("jkr_separation"))
       c.jkr_separation = as_choice(ctx, m.get("jkr_separation"), {"delta_s", "pull_off"}, "JKR separation rule");
+    if (m.has("lever_arm"))
+      c.lever_arm = as_choice(ctx, m.get("lever_arm"), {"contact_point", "radius"}, "lever arm");
     if ((c.normal == "jkr" || c.normal == "eepa") && (c.adhesion == "dmt" || c.adhesion == "jkr_simplified"))
       ctx.fail(m.sub("adhesion"), m.get("adhesion").mark,
                "adhesion '" + c.adhesion + "' cannot be combined with normal law '" + c.normal +

@@ -22,12 +22,11 @@ struct ContactForces {
   // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
   // the force each particle feels from each wall part is stored there too (for the wall reductions).
   template <class NeighborListT>
-  static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
-                      const ParamTable& pair_params, const ParamTable& wall_params,
-                      const Kokkos::View<Wall*, Mem>& walls,
-                      const Kokkos::View<Real**, Kokkos::LayoutRight, Mem>& wall_history,
-                      const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach, Law law,
-                      int n) {
+  static void
+  compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
+          const ParamTable& pair_params, const ParamTable& wall_params, const Kokkos::View<Wall*, Mem>& walls,
+          const Kokkos::View<Real**, Kokkos::LayoutRight, Mem>& wall_history,
+          const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach, Law law, int n) {
     const int nwalls = static_cast<int>(walls.extent(0));
     const bool record_wall_force = wall_force.extent(0) > 0;
     const auto offsets = nl.offsets;
@@ -72,10 +71,11 @@ struct ContactForces {
             st.overlap = touch - dist;
             const Vec3 vj = load3(p.velocity, j);
             const Vec3 wj = load3(p.angular_velocity, j);
-            // Contact point velocities: lever arms (R - overlap/2) along +n for i and -n for j.
-            const Real half = 0.5 * (st.overlap > 0 ? st.overlap : 0);
-            const Vec3 vci = vi + cross(wi, (ri - half) * st.normal);
-            const Vec3 vcj = vj + cross(wj, (-(rj - half)) * st.normal);
+            const models::PairParameters& pp = pair_params(mat_i, p.material(j));
+            st.lever_share = pp.lever_share;
+            // Contact point velocities: lever arms (models::lever_arm) along +n for i and -n for j.
+            const Vec3 vci = vi + cross(wi, models::lever_arm(ri, st) * st.normal);
+            const Vec3 vcj = vj + cross(wj, (-models::lever_arm(rj, st)) * st.normal);
             const Vec3 vrel = vci - vcj;
             st.overlap_rate = dot(vi - vj, st.normal);
             st.tangential_velocity = vrel - dot(vrel, st.normal) * st.normal;
@@ -93,10 +93,12 @@ struct ContactForces {
             st.scale_i = scale_i;
             st.scale_j = p.scale_factor(j);
             if constexpr (H > 0)
-              for (int k = 0; k < H; ++k) h[k] = history(s, k);
-            const models::ContactForce cf = law(pair_params(mat_i, p.material(j)), st, h);
+              for (int k = 0; k < H; ++k)
+                h[k] = history(s, k);
+            const models::ContactForce cf = law(pp, st, h);
             if constexpr (H > 0)
-              for (int k = 0; k < H; ++k) history(s, k) = h[k];
+              for (int k = 0; k < H; ++k)
+                history(s, k) = h[k];
             f += cf.force;
             t += cf.torque;
             contacts += cf.active ? 1 : 0;
@@ -116,13 +118,15 @@ struct ContactForces {
             Vec3 fw;
             if (!wc.reachable || wc.overlap <= -reach) {
               if constexpr (H > 0)
-                for (int k = 0; k < H; ++k) wall_history(i, w * H + k) = 0;
+                for (int k = 0; k < H; ++k)
+                  wall_history(i, w * H + k) = 0;
             } else {
               models::PairState st;
               st.normal = wc.normal;
               st.overlap = wc.overlap;
-              const Real half = 0.5 * (wc.overlap > 0 ? wc.overlap : 0);
-              const Vec3 vci = vi + cross(wi, (ri - half) * wc.normal);
+              const models::PairParameters& pp = wall_params(mat_i, wall.material);
+              st.lever_share = pp.lever_share;
+              const Vec3 vci = vi + cross(wi, models::lever_arm(ri, st) * wc.normal);
               const Vec3 vrel = vci - wc.surface_velocity;
               st.overlap_rate = dot(vi - wc.surface_velocity, wc.normal);
               st.tangential_velocity = vrel - dot(vrel, wc.normal) * wc.normal;
@@ -138,10 +142,12 @@ struct ContactForces {
               st.scale_i = scale_i;
               st.scale_j = 0;
               if constexpr (H > 0)
-                for (int k = 0; k < H; ++k) h[k] = wall_history(i, w * H + k);
-              const models::ContactForce cf = law(wall_params(mat_i, wall.material), st, h);
+                for (int k = 0; k < H; ++k)
+                  h[k] = wall_history(i, w * H + k);
+              const models::ContactForce cf = law(pp, st, h);
               if constexpr (H > 0)
-                for (int k = 0; k < H; ++k) wall_history(i, w * H + k) = h[k];
+                for (int k = 0; k < H; ++k)
+                  wall_history(i, w * H + k) = h[k];
               fw = cf.force;
               f += cf.force;
               t += cf.torque;

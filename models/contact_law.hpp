@@ -111,12 +111,11 @@ struct ContactLaw {
     const Vec3 ft = tangential(p, s, nr, history + tangential_offset);
     const RollingTorque rolling_torque = rolling(p, s, nr, history + rolling_offset);
     out.force = (attraction - nr.force) * s.normal + ft;
-    // Lever arms from the centres to the contact point: (R_i - overlap/2) n and -(R_j - overlap/2) n;
-    // j feels -ft, so both tangential torques are lever * (n x ft).
-    const Real half = 0.5 * (s.overlap > 0 ? s.overlap : 0);
+    // Lever arms from the centres to the contact point (lever_arm: R - share x overlap) along +n for i and
+    // -n for j; j feels -ft, so both tangential torques are lever * (n x ft).
     const Vec3 n_x_ft = cross(s.normal, ft);
-    out.torque = (s.radius_i - half) * n_x_ft + rolling_torque.on_i;
-    out.torque_j = (s.radius_j - half) * n_x_ft + rolling_torque.on_j;
+    out.torque = lever_arm(s.radius_i, s) * n_x_ft + rolling_torque.on_i;
+    out.torque_j = lever_arm(s.radius_j, s) * n_x_ft + rolling_torque.on_j;
     return out;
   }
 };

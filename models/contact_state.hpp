@@ -11,25 +11,35 @@
 namespace cgdem::models {
 
 struct PairState {
-  Real overlap = 0;       // R_i + R_j - |x_j - x_i|
-  Real overlap_rate = 0;  // (v_i - v_j) . n
-  Vec3 normal;            // unit, i -> j
-  Vec3 tangential_velocity;  // tangential part of the velocity of i's surface relative to j's at the contact point
-  Vec3 relative_rotation;    // omega_i - omega_j
-  Vec3 omega_i;              // the particles' own angular velocities (constant directional torque rolling)
-  Vec3 omega_j;              // zero for a wall
+  Real overlap = 0;         // R_i + R_j - |x_j - x_i|
+  Real overlap_rate = 0;    // (v_i - v_j) . n
+  Vec3 normal;              // unit, i -> j
+  Vec3 tangential_velocity; // tangential part of the velocity of i's surface relative to j's at the contact
+                            // point
+  Vec3 relative_rotation;   // omega_i - omega_j
+  Vec3 omega_i;             // the particles' own angular velocities (constant directional torque rolling)
+  Vec3 omega_j;             // zero for a wall
   Real radius_i = 0;
-  Real radius_j = 0;         // 0 for a wall
-  Real radius_eff = 0;       // R*
-  Real mass_eff = 0;         // m*
-  Real volume_i = 0;         // particle volumes (liquid bridge volume)
+  Real radius_j = 0;   // 0 for a wall
+  Real radius_eff = 0; // R*
+  Real mass_eff = 0;   // m*
+  Real volume_i = 0;   // particle volumes (liquid bridge volume)
   Real volume_j = 0;
   Real dt = 0;
   // Coarse-graining factors k of the two particles (1: original size; scale_j = 0 for a wall). Read by
   // the direct force scaling wrappers (models/scaling/); plain contact laws ignore them.
   Real scale_i = 1;
   Real scale_j = 1;
+  // Where the contact point sits: lever = R - lever_share * overlap from each centre (PairParameters).
+  Real lever_share = 0.5;
 };
+
+// Distance from a centre to the contact point. lever_share 0.5 puts the point in the middle of the overlap
+// lens (default); 0 takes the radius, as Chen & Elliott's law assumes when it scales torques by k^4 (the
+// overlap is invariant under that law, R - delta/2 is not similar).
+KOKKOS_INLINE_FUNCTION Real lever_arm(Real radius, const PairState& s) {
+  return radius - s.lever_share * (s.overlap > 0 ? s.overlap : 0);
+}
 
 struct ContactForce {
   Vec3 force;          // total force on i (j gets exactly -force)
@@ -44,11 +54,11 @@ struct RollingTorque {
 
 // Output of a normal law, consumed by the tangential, adhesion and rolling components.
 struct NormalResult {
-  Real force = 0;          // along -n on i (repulsive > 0), elastic + damping
-  Real friction_load = 0;  // the load the Coulomb limit uses, >= 0
-  Real k_t = 0;            // tangential stiffness for this step
-  Real c_t = 0;            // tangential damping coefficient
-  Real stiffness = 0;      // current normal stiffness (rolling spring uses it)
+  Real force = 0;         // along -n on i (repulsive > 0), elastic + damping
+  Real friction_load = 0; // the load the Coulomb limit uses, >= 0
+  Real k_t = 0;           // tangential stiffness for this step
+  Real c_t = 0;           // tangential damping coefficient
+  Real stiffness = 0;     // current normal stiffness (rolling spring uses it)
   bool active = false;
 };
 

@@ -29,6 +29,9 @@ struct PairParameters {
   Real eepa_f0 = 0;
   // Full JKR separation rule: 0 at delta_S (JKR theory), 1 at the pull-off point delta_C (LAMMPS' rule).
   Real jkr_separate_at_pull_off = 0;
+  // Contact point for lever arms and contact velocities: R - lever_share * overlap (scene contact.lever_arm:
+  // contact_point 0.5, radius 0).
+  Real lever_share = 0.5;
   // Capillary bridge (Rabinovich-Lambert).
   Real surface_tension = 0;
   Real contact_angle = 0;      // radians

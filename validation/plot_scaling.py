@@ -1,7 +1,6 @@
 #!/usr/bin/python3
 """Figures of the coarse-graining validation (docs/coarse_graining.md) from the CSV files that
-`cgdem_tests --gtest_also_run_disabled_tests --gtest_filter='ScalingValidationDriver.*'` writes into
-validation/results (or $CGDEM_VALIDATION_OUT).
+`build/validation/write_scaling_csv [DIR]` writes into validation/results (or DIR).
 
     /usr/bin/python3 validation/plot_scaling.py [results_dir]
 """
@@ -64,6 +63,39 @@ def case_a(series, law, fname, title):
     plt.close(fig)
 
 
+def case_b(rows, law, lever, fname, title):
+    """Chen case b (oblique wall impact): the four panels of the paper's figure."""
+    series = defaultdict(list)
+    for r in rows:
+        if r["law"] == law and r["lever_arm"] == lever:
+            series[float(r["k"])].append(r)
+    if not series:
+        return
+    fig, ax = plt.subplots(2, 2, figsize=(10, 7.5))
+    for k in KS:
+        rs = series.get(k, [])
+        if not rs:
+            continue
+        t = [x * 1e9 for x in col(rs, "time")]
+        lab = f"k = {k:g}"
+        ax[0, 0].plot(t, col(rs, "tangential_stiffness_over_k3"), label=lab, **STYLE[k])
+        ax[0, 1].plot(t, col(rs, "tangential_force_over_Fc"), label=lab, **STYLE[k])
+        ax[1, 0].plot(t, [x * 1e-6 for x in col(rs, "omega_times_k")], label=lab, **STYLE[k])
+        ax[1, 1].plot(t, col(rs, "normal_velocity"), label=f"normal, {lab}", **STYLE[k])
+        ax[1, 1].plot(t, col(rs, "tangential_velocity"), label=f"tangential, {lab}", alpha=0.6, **STYLE[k])
+    ax[0, 0].set(xlabel="time from first contact (ns)", ylabel="tangential stiffness / k^3 (N/m)")
+    ax[0, 1].set(xlabel="time from first contact (ns)", ylabel="tangential force / F_c")
+    ax[1, 0].set(xlabel="time from first contact (ns)", ylabel="angular velocity x k (1e6 rad/s)")
+    ax[1, 1].set(xlabel="time from first contact (ns)", ylabel="velocity (m/s; normal > 0 approaching)")
+    for a in ax.flat:
+        a.grid(alpha=0.3)
+        a.legend(fontsize=7)
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(os.path.join(RESULTS, fname), dpi=110)
+    plt.close(fig)
+
+
 def case_c(sweep, laws, fname, title):
     fig, ax = plt.subplots(1, 3, figsize=(14, 4.3))
     colors = {"chen_elliott": "k", "bond": "tab:orange", "cohesion": "tab:green", "hu_method1": "tab:purple",
@@ -118,6 +150,13 @@ def main():
            "Chen case a, head-on JKR collision: Chen-Elliott scaling, k = 1, 2, 4")
     for law in ["bond", "cohesion", "hu_method1", "hu_method2", "hu_method3", "sakai"]:
         case_a(series, law, f"case_a_{law}.png", f"Chen case a, head-on JKR collision: {law} scaling, k = 1, 2, 4")
+    b = read("case_b_series.csv")
+    case_b(b, "chen_elliott", "radius", "case_b_chen_elliott.png",
+           "Chen case b, oblique wall impact: Chen-Elliott, lever arm R (the law's), k = 1, 2, 4")
+    case_b(b, "chen_elliott", "contact_point", "case_b_chen_elliott_contact_point.png",
+           "Chen case b: Chen-Elliott with cgdem's default lever arm R - delta/2, k = 1, 2, 4")
+    for law in ["bond", "cohesion", "hu_method1"]:
+        case_b(b, law, "contact_point", f"case_b_{law}.png", f"Chen case b, oblique wall impact: {law}, k = 1, 2, 4")
     sweep = by_law_k(read("case_c_sweep.csv"))
     case_c(sweep, ["chen_elliott", "bond", "cohesion"], "case_c_parameter_laws.png",
            "Chen case c, 1.27 um particle on a wall: parameter scaling laws")

@@ -125,10 +125,9 @@ struct DirectForceScaling {
       const Vec3 ft = law.tangential(p, o, nr, history + Law::tangential_offset);
       const RollingTorque rolling_torque = law.rolling(p, o, nr, history + Law::rolling_offset);
       out.force = (fa * attraction - fc * nr.force) * o.normal + fc * ft;
-      const Real half = 0.5 * (o.overlap > 0 ? o.overlap : 0);
       const Vec3 n_x_ft = cross(o.normal, ft);
-      out.torque = ft_scale * ((o.radius_i - half) * n_x_ft + rolling_torque.on_i);
-      out.torque_j = ft_scale * ((o.radius_j - half) * n_x_ft + rolling_torque.on_j);
+      out.torque = ft_scale * (lever_arm(o.radius_i, o) * n_x_ft + rolling_torque.on_i);
+      out.torque_j = ft_scale * (lever_arm(o.radius_j, o) * n_x_ft + rolling_torque.on_j);
       return out;
     }
   }
