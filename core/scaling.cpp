@@ -16,6 +16,8 @@ constexpr LawName kLaws[] = {
     {ScalingLaw::Bond, "bond"},
     {ScalingLaw::Cohesion, "cohesion"},
     {ScalingLaw::Thakur, "thakur"},
+    {ScalingLaw::ThakurF0Linear, "thakur_f0_linear"},
+    {ScalingLaw::ThakurF0Cubic, "thakur_f0_cubic"},
     {ScalingLaw::HuMethod1, "hu_method1"},
     {ScalingLaw::HuMethod2, "hu_method2"},
     {ScalingLaw::HuMethod3, "hu_method3"},
@@ -42,7 +44,7 @@ bool is_direct(ScalingLaw law) {
 
 bool is_parameter(ScalingLaw law) {
   return law == ScalingLaw::ChenElliott || law == ScalingLaw::Bond || law == ScalingLaw::Cohesion ||
-         law == ScalingLaw::Thakur;
+         law == ScalingLaw::Thakur || law == ScalingLaw::ThakurF0Linear || law == ScalingLaw::ThakurF0Cubic;
 }
 
 ScalingLaw scene_scaling_law(const Scene& scene) {
@@ -69,6 +71,14 @@ ParameterScaling parameter_scaling(ScalingLaw law, double k) {
   case ScalingLaw::Thakur: // Thakur 2016: stiffnesses k, pull-off k^2
     s.stiffness = k;
     s.pull_off = k * k;
+    break;
+  case ScalingLaw::ThakurF0Linear:
+    s.stiffness = k;
+    s.pull_off = k;
+    break;
+  case ScalingLaw::ThakurF0Cubic:
+    s.stiffness = k;
+    s.pull_off = k * k * k;
     break;
   default:
     break;
@@ -157,11 +167,13 @@ void check_scaling(const Scene& scene) {
                                   "' differs from the scene's '" + scaling_law_name(law) + "'");
   const std::string& normal = scene.contact.normal;
   const bool spring = normal == "eepa" || normal == "linear";
-  if (law == ScalingLaw::Thakur && !spring)
-    throw std::invalid_argument(
-        "coarse_grain law thakur scales EEPA / linear spring stiffnesses; the scene's "
-        "normal law is '" +
-        normal + "' (use eepa or linear, or chen_elliott for JKR/DMT/Hertz)");
+  const bool thakur =
+      law == ScalingLaw::Thakur || law == ScalingLaw::ThakurF0Linear || law == ScalingLaw::ThakurF0Cubic;
+  if (thakur && !spring)
+    throw std::invalid_argument(std::string("coarse_grain law ") + scaling_law_name(law) +
+                                " scales EEPA / linear spring stiffnesses; the scene's "
+                                "normal law is '" +
+                                normal + "' (use eepa or linear, or chen_elliott for JKR/DMT/Hertz)");
   if ((law == ScalingLaw::ChenElliott || law == ScalingLaw::Bond || law == ScalingLaw::Cohesion) && spring)
     throw std::invalid_argument(std::string("coarse_grain law ") + scaling_law_name(law) +
                                 " scales E and gamma of Hertz-based laws; the scene's normal law is '" +

@@ -24,7 +24,21 @@
 
 namespace cgdem {
 
-enum class ScalingLaw { None, ChenElliott, Bond, Cohesion, Thakur, HuMethod1, HuMethod2, HuMethod3, Sakai };
+// ThakurF0Linear and ThakurF0Cubic are Thakur's law with the pull-off force scaled as k and k^3: the
+// alternatives his paper rejects, kept so that a sweep can show why.
+enum class ScalingLaw {
+  None,
+  ChenElliott,
+  Bond,
+  Cohesion,
+  Thakur,
+  ThakurF0Linear,
+  ThakurF0Cubic,
+  HuMethod1,
+  HuMethod2,
+  HuMethod3,
+  Sakai
+};
 
 // Throws std::invalid_argument for an unknown name.
 ScalingLaw scaling_law(const std::string& name);

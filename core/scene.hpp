@@ -19,35 +19,35 @@ struct DomainSpec {
 
 struct MaterialSpec {
   std::string name;
-  double density = 0;          // kg/m^3 (required for particle materials)
-  double youngs_modulus = 0;   // Pa
+  double density = 0;        // kg/m^3 (required for particle materials)
+  double youngs_modulus = 0; // Pa
   double poisson_ratio = 0.3;
-  double restitution = 1;      // (0, 1]
-  double friction = 0;         // sliding
+  double restitution = 1; // (0, 1]
+  double friction = 0;    // sliding
   double rolling_friction = 0;
-  double surface_energy = 0;   // J/m^2 (JKR, DMT)
-  double eepa_k1 = 0, eepa_k2 = 0, eepa_k_adh = 0, eepa_f0 = 0;  // linear EEPA (N/m, N)
-  double spring_normal = 0, spring_tangential = 0;                // linear spring-dashpot (N/m)
-  double surface_tension = 0;  // N/m (capillary)
-  double contact_angle = 0;    // degrees in YAML, radians here
-  double liquid_fraction = 0;  // V_liq = fraction * (V_i + V_j)
-  double liquid_volume = 0;    // m^3 per bridge, overrides liquid_fraction when > 0
+  double surface_energy = 0;                                    // J/m^2 (JKR, DMT)
+  double eepa_k1 = 0, eepa_k2 = 0, eepa_k_adh = 0, eepa_f0 = 0; // linear EEPA (N/m, N)
+  double spring_normal = 0, spring_tangential = 0;              // linear spring-dashpot (N/m)
+  double surface_tension = 0;                                   // N/m (capillary)
+  double contact_angle = 0;                                     // degrees in YAML, radians here
+  double liquid_fraction = 0;                                   // V_liq = fraction * (V_i + V_j)
+  double liquid_volume = 0; // m^3 per bridge, overrides liquid_fraction when > 0
   double min_separation = 1e-6;
 };
 
 // Which compiled law a scene uses, component by component (models/contact_law.hpp).
 struct ContactSpec {
-  std::string normal = "hertz";         // hertz | linear | jkr | eepa
-  std::string adhesion = "none";        // none | dmt | jkr_simplified | capillary
-  std::string tangential = "mindlin";   // mindlin | none
-  std::string rolling = "none";         // none | constant_torque | spring_dashpot
-  bool wall_adhesion = true;            // false: particle-wall pairs get no surface energy / liquid
+  std::string normal = "hertz";       // hertz | linear | jkr | eepa
+  std::string adhesion = "none";      // none | dmt | jkr_simplified | capillary
+  std::string tangential = "mindlin"; // mindlin | none
+  std::string rolling = "none";       // none | constant_torque | spring_dashpot
+  bool wall_adhesion = true;          // false: particle-wall pairs get no surface energy / liquid
   // Full JKR: a bonded pair separates at delta_S (JKR theory, physics.md) or, as LAMMPS' jkr model
   // does, at the pull-off point delta_C (for comparisons with LAMMPS-based studies).
-  std::string jkr_separation = "delta_s";  // delta_s | pull_off
+  std::string jkr_separation = "delta_s"; // delta_s | pull_off
   // Lever arm of tangential forces (and the contact point of the slip velocity): R - overlap/2
   // (contact_point) or R (radius, which makes Chen-Elliott's torque scaling k^4 exact).
-  std::string lever_arm = "contact_point";  // contact_point | radius
+  std::string lever_arm = "contact_point"; // contact_point | radius
   // Direct force scaling wrapping the whole law (models/scaling/direct_force_scaling.hpp): none |
   // hu_method1 | hu_method2 | hu_method3 | sakai. Not a YAML key: derived from the groups' coarse_grain.law
   // by effective_contact() (core/scaling.hpp); the compiled name gets "@<method>".
@@ -61,79 +61,110 @@ struct PairOverrideSpec {
 };
 
 struct CoarseGrainSpec {
-  std::string law = "none";  // none | chen_elliott | bond | cohesion | thakur | hu_method1 | hu_method2 | hu_method3 | sakai
+  std::string law =
+      "none"; // none | chen_elliott | bond | cohesion | thakur | hu_method1 | hu_method2 | hu_method3 | sakai
   double factor = 1;
 };
 
 struct SizeSpec {
-  std::string distribution = "mono";  // mono | uniform | normal | lognormal
-  double radius = 0;                  // mono
+  std::string distribution = "mono";      // mono | uniform | normal | lognormal
+  double radius = 0;                      // mono
   double min_radius = 0, max_radius = 0;  // uniform, and truncation for normal/lognormal
   double mean_radius = 0, std_radius = 0; // normal, lognormal
 };
 
 struct PlacementSpec {
-  std::string kind = "lattice";  // lattice | random_box | random_cylinder | file
-  Vec3d lo{0, 0, 0}, hi{0, 0, 0};        // box (lattice, random_box)
-  Vec3d center{0, 0, 0};                 // cylinder base centre (axis along z)
+  std::string kind = "lattice";   // lattice | random_box | random_cylinder | file
+  Vec3d lo{0, 0, 0}, hi{0, 0, 0}; // box (lattice, random_box)
+  Vec3d center{0, 0, 0};          // cylinder base centre (axis along z)
   double cylinder_radius = 0, cylinder_height = 0;
-  double spacing = 0;                    // lattice spacing (default: largest diameter * 1.05)
+  double spacing = 0; // lattice spacing (default: largest diameter * 1.05)
   std::uint64_t seed = 1;
-  std::string file;                      // CSV (id,x,y,z,radius[,density]) or HDF5 (a cgdem frame)
+  std::string file; // CSV (id,x,y,z,radius[,density]) or HDF5 (a cgdem frame)
 };
 
 struct GroupSpec {
   std::string name;
   std::string material;
-  long count = 0;            // particles to place (file placement: all in the file when 0)
-  SizeSpec size;             // of the ORIGINAL particles
+  long count = 0; // particles to place (file placement: all in the file when 0)
+  SizeSpec size;  // of the ORIGINAL particles
   PlacementSpec placement;
   Vec3d velocity{0, 0, 0};
-  double velocity_random = 0;  // magnitude of random-direction velocity added (Hu periodic box)
+  double velocity_random = 0; // magnitude of random-direction velocity added (Hu periodic box)
   CoarseGrainSpec coarse_grain;
   std::string source_location; // "file:line" of the group in the scene (for error messages)
 };
 
 struct WallSpec {
   std::string name;
-  std::string type = "plane";  // plane | cylinder
+  std::string type = "plane"; // plane | cylinder
   std::string material;
-  Vec3d point{0, 0, 0};        // plane: a point on it; cylinder: centre of its base
-  Vec3d normal{0, 0, 1};       // plane: unit normal pointing into the particles
-  Vec3d axis{0, 0, 1};         // cylinder axis (unit)
+  Vec3d point{0, 0, 0};  // plane: a point on it; cylinder: centre of its base
+  Vec3d normal{0, 0, 1}; // plane: unit normal pointing into the particles
+  Vec3d axis{0, 0, 1};   // cylinder axis (unit)
   double radius = 0, length = 0;
-  bool caps = false;           // cylinder end caps
+  bool caps = false; // cylinder end caps
   // Motion: translation velocity and rotation rate about the axis (rad/s), active in [start, stop).
   Vec3d velocity{0, 0, 0};
   double angular_velocity = 0;
   double motion_start = 0, motion_stop = 1e300;
+  // Further translation segments (motion.then), each a constant velocity over [start, stop): a piston
+  // that approaches fast, then loads, then unloads.
+  struct Segment {
+    Vec3d velocity{0, 0, 0};
+    double start = 0, stop = 0;
+  };
+  std::vector<Segment> then;
+  static constexpr int kMaxThen = 3; // as Wall::kMaxThen on the device
+
+  // Displacement from the time-0 position (host twin of Wall::offset).
+  Vec3d displacement(double t) const {
+    const auto span = [t](double a, double b) { return t < a ? 0.0 : (t < b ? t - a : b - a); };
+    Vec3d d;
+    const double m0 = span(motion_start, motion_stop);
+    for (int a = 0; a < 3; ++a)
+      d[a] = m0 * velocity[a];
+    for (const Segment& s : then) {
+      const double m = span(s.start, s.stop);
+      for (int a = 0; a < 3; ++a)
+        d[a] += m * s.velocity[a];
+    }
+    return d;
+  }
+  bool translates() const {
+    bool any = velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0;
+    for (const Segment& s : then)
+      any = any || s.velocity[0] != 0 || s.velocity[1] != 0 || s.velocity[2] != 0;
+    return any;
+  }
 };
 
 struct TimeSpec {
   double end = 0;
-  double step = 0;            // 0 = auto
-  double fraction = 0.2;      // of the estimated stable step when auto
-  bool force_step = false;    // allow a given step above the stable estimate
+  double step = 0;         // 0 = auto
+  double fraction = 0.2;   // of the estimated stable step when auto
+  bool force_step = false; // allow a given step above the stable estimate
   // Cap the auto step so JKR snap-in/snap-off jumps are resolved (v dt <= 2e-3 u: collision energy within
   // 1% of W_s). Off by default: for bulk flows it costs orders of magnitude in steps (docs/stability.md).
   bool resolve_adhesion = false;
 };
 
 struct OutputSpec {
-  double every = 0;           // simulated time between frames (0: only first and last)
-  std::vector<std::string> fields{"position", "velocity", "angular_velocity", "radius", "mass", "group", "id"};
+  double every = 0; // simulated time between frames (0: only first and last)
+  std::vector<std::string> fields{"position", "velocity", "angular_velocity", "radius", "mass",
+                                  "group",    "id"};
   std::string file = "results.h5";
 };
 
 struct StopSpec {
-  double kinetic_energy_below = -1;  // stop when translational KE < this (J) after min_time
+  double kinetic_energy_below = -1; // stop when translational KE < this (J) after min_time
   double min_time = 0;
 };
 
 struct NeighbourSpec {
-  double skin = -1;          // absolute (m); < 0: skin_fraction * largest diameter
+  double skin = -1; // absolute (m); < 0: skin_fraction * largest diameter
   double skin_fraction = 0.2;
-  int reorder_every = 1;     // spatial reorder every N list builds (0: never)
+  int reorder_every = 1; // spatial reorder every N list builds (0: never)
 };
 
 struct AnalysisSpec {
@@ -145,7 +176,7 @@ struct AnalysisSpec {
 struct StabilitySpec {
   double max_overlap_fraction = 0.5; // overlap above this fraction of the smaller radius is a blow-up
   bool relax_initial_overlaps = false;
-  double overlap_tolerance = 0.01;   // initial overlap allowed, as a fraction of the smaller radius
+  double overlap_tolerance = 0.01; // initial overlap allowed, as a fraction of the smaller radius
 };
 
 struct Scene {

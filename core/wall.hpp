@@ -11,21 +11,38 @@ struct Wall {
   enum Type : int { Plane = 0, Cylinder = 1 };
   int type = Plane;
   int material = 0;
-  int owner = 0;          // index of the named wall this part belongs to (force reporting)
-  Vec3 point;             // plane: a point on it; cylinder: centre of the base at time 0
-  Vec3 axis{0, 0, 1};     // plane: unit normal into the particles; cylinder: unit axis
-  Real radius = 0;        // cylinder radius; for a plane > 0 bounds it to a disk around point
-  Real length = 0;        // cylinder length along the axis
-  Vec3 velocity;          // translation while moving
-  Real angular_velocity = 0;  // rad/s about axis through point
+  int owner = 0;             // index of the named wall this part belongs to (force reporting)
+  Vec3 point;                // plane: a point on it; cylinder: centre of the base at time 0
+  Vec3 axis{0, 0, 1};        // plane: unit normal into the particles; cylinder: unit axis
+  Real radius = 0;           // cylinder radius; for a plane > 0 bounds it to a disk around point
+  Real length = 0;           // cylinder length along the axis
+  Vec3 velocity;             // translation while moving
+  Real angular_velocity = 0; // rad/s about axis through point
   Real motion_start = 0, motion_stop = 1e300;
+  // Further translation segments (scene motion.then), constant velocity over [start, stop) each.
+  static constexpr int kMaxThen = 3;
+  Vec3 then_velocity[kMaxThen];
+  Real then_start[kMaxThen] = {0, 0, 0}, then_stop[kMaxThen] = {0, 0, 0};
+  int num_then = 0;
 
+  KOKKOS_INLINE_FUNCTION static Real span(Real t, Real a, Real b) {
+    return t < a ? 0 : (t < b ? t - a : b - a);
+  }
   // Displacement of the wall from its time-0 position.
   KOKKOS_INLINE_FUNCTION Vec3 offset(Real t) const {
-    Real moving = t < motion_start ? 0 : (t < motion_stop ? t - motion_start : motion_stop - motion_start);
-    return moving * velocity;
+    Vec3 d = span(t, motion_start, motion_stop) * velocity;
+    for (int k = 0; k < num_then; ++k)
+      d += span(t, then_start[k], then_stop[k]) * then_velocity[k];
+    return d;
   }
   KOKKOS_INLINE_FUNCTION bool moving(Real t) const { return t >= motion_start && t < motion_stop; }
+  // Translation velocity at time t (the sum of the active segments).
+  KOKKOS_INLINE_FUNCTION Vec3 translation_velocity(Real t) const {
+    Vec3 v = moving(t) ? velocity : Vec3{};
+    for (int k = 0; k < num_then; ++k)
+      if (t >= then_start[k] && t < then_stop[k]) v += then_velocity[k];
+    return v;
+  }
 };
 
 struct WallContact {
@@ -39,7 +56,8 @@ KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec
   WallContact c;
   const Vec3 base = w.point + w.offset(t);
   const Vec3 rel = x - base;
-  const bool moving = w.moving(t);
+  const Vec3 translation = w.translation_velocity(t);
+  const Real spin = w.moving(t) ? w.angular_velocity : 0;
   if (w.type == Wall::Plane) {
     const Real dist = dot(rel, w.axis);
     if (w.radius > 0) {
@@ -49,10 +67,7 @@ KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec
     c.reachable = true;
     c.overlap = radius - dist;
     c.normal = -w.axis;
-    if (moving) {
-      const Vec3 contact_point = rel - dist * w.axis;
-      c.surface_velocity = w.velocity + w.angular_velocity * cross(w.axis, contact_point);
-    }
+    c.surface_velocity = translation + spin * cross(w.axis, rel - dist * w.axis);
     return c;
   }
   // Inner side of a cylinder.
@@ -64,10 +79,7 @@ KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec
   c.reachable = true;
   c.normal = (1.0 / r) * radial;
   c.overlap = radius - (w.radius - r);
-  if (moving) {
-    const Vec3 contact_point = axial * w.axis + w.radius * c.normal;
-    c.surface_velocity = w.velocity + w.angular_velocity * cross(w.axis, contact_point);
-  }
+  c.surface_velocity = translation + spin * cross(w.axis, axial * w.axis + w.radius * c.normal);
   return c;
 }
 

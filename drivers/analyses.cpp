@@ -221,10 +221,13 @@ public:
     height_ = p.num("initial_height", 0, true);
     if (area_ <= 0) p.fail("area", "area must be > 0", "give the wall's loaded area in m^2");
     if (height_ <= 0) p.fail("initial_height", "initial_height must be > 0", "give the sample height in m");
+    from_ = p.num("from", 0);
+    if (from_ < 0) p.fail("from", "from must be >= 0", "give the time (s) the test starts, e.g. from: 0.5");
   }
+  // Strain counted from the wall's position at `from` (a piston that first approaches the sample).
   double strain(double t) const {
-    const double moving = std::max(0.0, std::min(t, wall_.motion_stop) - wall_.motion_start);
-    return dot(wall_.velocity, wall_.normal) * moving / height_;
+    const Vec3d d = wall_.displacement(std::max(t, from_)), d0 = wall_.displacement(from_);
+    return (dot(d, wall_.normal) - dot(d0, wall_.normal)) / height_;
   }
   double stress(const AnalysisInput& in) const {
     for (std::size_t k = 0; k < in.wall_names.size(); ++k)
@@ -241,7 +244,7 @@ public:
       out[name() + "_strain"] = e;
       return;
     }
-    if (s > peak_stress_ || !seen_) {
+    if (in.time >= from_ && (s > peak_stress_ || !seen_)) {
       peak_stress_ = s;
       peak_strain_ = e;
       seen_ = true;
@@ -255,7 +258,7 @@ public:
 private:
   bool peak_;
   WallSpec wall_;
-  double area_ = 0, height_ = 0;
+  double area_ = 0, height_ = 0, from_ = 0;
   bool seen_ = false;
   double peak_stress_ = 0, peak_strain_ = 0;
 };

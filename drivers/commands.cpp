@@ -48,7 +48,9 @@ int read_options(const std::vector<std::string>& args, const char* command, cons
   return -1;
 }
 
-std::string default_backend() { return compiled_backends().front(); }
+std::string default_backend() {
+  return compiled_backends().front();
+}
 
 int backend_threads(const std::string& backend) {
 #if defined(KOKKOS_ENABLE_OPENMP)
@@ -72,7 +74,8 @@ PreparedRun prepare(const RunOptions& o) {
   if (p.scene.stability.relax_initial_overlaps) {
     const RelaxReport r = relax_overlaps(p.scene, p.particles);
     if (r.initial_max_overlap > 0)
-      std::fprintf(stderr, "relaxed initial overlaps: largest %.3g -> %.3g of the smaller radius in %d sweeps\n",
+      std::fprintf(stderr,
+                   "relaxed initial overlaps: largest %.3g -> %.3g of the smaller radius in %d sweeps\n",
                    r.initial_max_overlap, r.final_max_overlap, r.sweeps);
   }
   check_particles(p.scene, p.particles);
@@ -81,7 +84,8 @@ PreparedRun prepare(const RunOptions& o) {
     std::ostringstream what, fix;
     what << "step " << p.scene.time.step << " s is above the stable limit " << p.dt.limit << " s ("
          << p.dt.reason.substr(p.dt.reason.find("from ") + 5);
-    fix << "use 'step: auto', a step <= " << p.dt.limit << " s, or set time.force_step: true to run it anyway";
+    fix << "use 'step: auto', a step <= " << p.dt.limit
+        << " s, or set time.force_step: true to run it anyway";
     throw SceneError(scene_error_message(p.scene.source_file, "time.step", what.str(), fix.str()));
   }
   p.config = make_engine_config(p.scene, p.particles, p.dt);
@@ -102,9 +106,12 @@ std::string human_bytes(double b) {
 
 std::string human_duration(double s) {
   char buf[32];
-  if (s < 120) std::snprintf(buf, sizeof buf, "%.0f s", s);
-  else if (s < 7200) std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
-  else std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
+  if (s < 120)
+    std::snprintf(buf, sizeof buf, "%.0f s", s);
+  else if (s < 7200)
+    std::snprintf(buf, sizeof buf, "%.1f min", s / 60);
+  else
+    std::snprintf(buf, sizeof buf, "%.1f h", s / 3600);
   return buf;
 }
 
@@ -151,9 +158,29 @@ int run_command(const std::vector<std::string>& args) {
 
   const double dt = p.dt.step;
   const long end_step = static_cast<long>(std::ceil(p.scene.time.end / dt - 1e-9));
-  const long frame_every = p.scene.output.every > 0 ? std::max(1L, std::lround(p.scene.output.every / dt)) : end_step;
-  const long checkpoint_every = o.checkpoint_every > 0 ? std::max(1L, std::lround(o.checkpoint_every / dt)) : 0;
+  const long frame_every =
+      p.scene.output.every > 0 ? std::max(1L, std::lround(p.scene.output.every / dt)) : end_step;
+  const long checkpoint_every =
+      o.checkpoint_every > 0 ? std::max(1L, std::lround(o.checkpoint_every / dt)) : 0;
   const std::string out = o.out.empty() ? p.scene.output.file : o.out;
+  // An unwritable destination is bad input: say so before any work, not as an exception from the writer.
+  {
+    const std::filesystem::path dir = std::filesystem::absolute(out).parent_path();
+    std::error_code ec;
+    if (!std::filesystem::is_directory(dir, ec)) {
+      std::fprintf(stderr,
+                   "cgdem: %s: output directory '%s' does not exist; create it (mkdir -p) or choose "
+                   "another path with --out or output.file\n",
+                   out.c_str(), dir.string().c_str());
+      return exit_bad_input;
+    }
+    if (access(dir.c_str(), W_OK) != 0) {
+      std::fprintf(stderr,
+                   "cgdem: %s: output directory '%s' is not writable; choose another path with --out\n",
+                   out.c_str(), dir.string().c_str());
+      return exit_bad_input;
+    }
+  }
 
   RunInfo info;
   info.cgdem_version = CGDEM_VERSION;
@@ -168,7 +195,8 @@ int run_command(const std::vector<std::string>& args) {
 
   const int n = engine->size();
   std::fprintf(stderr, "cgdem %s: %s, %d particles, %s on %s (%d threads), dt = %.4g s (%s)\n", CGDEM_VERSION,
-               o.scene.c_str(), n, engine->physics().c_str(), backend.c_str(), info.threads, dt, p.dt.reason.c_str());
+               o.scene.c_str(), n, engine->physics().c_str(), backend.c_str(), info.threads, dt,
+               p.dt.reason.c_str());
   auto emit = [&]() {
     Observables obs = engine->observe();
     FrameData frame = engine->frame();
@@ -189,7 +217,8 @@ int run_command(const std::vector<std::string>& args) {
   try {
     while (engine->step() < end_step) {
       long next = std::min(end_step, (engine->step() / frame_every + 1) * frame_every);
-      if (checkpoint_every > 0) next = std::min(next, (engine->step() / checkpoint_every + 1) * checkpoint_every);
+      if (checkpoint_every > 0)
+        next = std::min(next, (engine->step() / checkpoint_every + 1) * checkpoint_every);
       // Progress at most every ~second even between frames: advance in slices.
       const long slice = std::max(1L, std::min(next - engine->step(), 2000000L / std::max(1, n) + 1));
       engine->advance(std::min(slice, next - engine->step()));
@@ -198,23 +227,25 @@ int run_command(const std::vector<std::string>& args) {
         const Observables obs = emit();
         if (p.scene.stop.kinetic_energy_below > 0 && obs.time >= p.scene.stop.min_time &&
             obs.kinetic_energy < p.scene.stop.kinetic_energy_below) {
-          std::fprintf(stderr, "\nstop: kinetic energy %.3g J below %.3g J at t = %.4g s\n", obs.kinetic_energy,
-                       p.scene.stop.kinetic_energy_below, obs.time);
+          std::fprintf(stderr, "\nstop: kinetic energy %.3g J below %.3g J at t = %.4g s\n",
+                       obs.kinetic_energy, p.scene.stop.kinetic_energy_below, obs.time);
           stopped_early = true;
           break;
         }
       }
-      if (checkpoint_every > 0 && s % checkpoint_every == 0) write_checkpoint(checkpoint_path_for(out), engine->checkpoint());
+      if (checkpoint_every > 0 && s % checkpoint_every == 0)
+        write_checkpoint(checkpoint_path_for(out), engine->checkpoint());
       const auto now = clock::now();
       // A terminal gets a line rewritten every second; a log file a new line every 10 seconds.
-      if (!o.quiet && std::chrono::duration<double>(now - last_progress).count() > (interactive ? 1.0 : 10.0)) {
+      if (!o.quiet &&
+          std::chrono::duration<double>(now - last_progress).count() > (interactive ? 1.0 : 10.0)) {
         last_progress = now;
         const double wall = std::chrono::duration<double>(now - start).count();
         const double rate = double(s - first_step) * n / wall;
         const double eta = double(end_step - s) * n / rate;
         std::fprintf(stderr, "%s  t = %.4g / %.4g s  step %ld / %ld  %.3g particle-steps/s  ETA %s   %s",
-                     interactive ? "\r" : "", s * dt, p.scene.time.end, s, end_step, rate, human_duration(eta).c_str(),
-                     interactive ? "" : "\n");
+                     interactive ? "\r" : "", s * dt, p.scene.time.end, s, end_step, rate,
+                     human_duration(eta).c_str(), interactive ? "" : "\n");
       }
     }
   } catch (const BlowUpError& e) {
@@ -229,17 +260,18 @@ int run_command(const std::vector<std::string>& args) {
   const double timed = t.integrate + t.binning + t.neighbor_list + t.forces;
   const Observables last = engine->observe();
   if (interactive) std::fprintf(stderr, "\r%100s\r", "");
-  std::fprintf(stderr,
-               "done%s: %ld steps of %d particles in %s: %.3g particle-steps/s\n"
-               "  time split: forces %.0f%%, neighbour list %.0f%%, binning+reorder %.0f%%, integration %.0f%% "
-               "(%ld list builds)\n"
-               "  final: t = %.4g s, kinetic energy %.4g J, %ld contacts\n"
-               "  wrote %s (%lld frames) and %s\n",
-               stopped_early ? " (stop condition)" : "", steps, n, human_duration(wall).c_str(),
-               steps * double(n) / wall, 100 * t.forces / timed, 100 * t.neighbor_list / timed,
-               100 * t.binning / timed, 100 * t.integrate / timed, t.list_builds, last.time, last.kinetic_energy,
-               last.contacts, writer.path().c_str(), static_cast<long long>(writer.frames_written()),
-               writer.xdmf_path().c_str());
+  std::fprintf(
+      stderr,
+      "done%s: %ld steps of %d particles in %s: %.3g particle-steps/s\n"
+      "  time split: forces %.0f%%, neighbour list %.0f%%, binning+reorder %.0f%%, integration %.0f%% "
+      "(%ld list builds)\n"
+      "  final: t = %.4g s, kinetic energy %.4g J, %ld contacts\n"
+      "  wrote %s (%lld frames) and %s\n",
+      stopped_early ? " (stop condition)" : "", steps, n, human_duration(wall).c_str(),
+      steps * double(n) / wall, 100 * t.forces / timed, 100 * t.neighbor_list / timed,
+      100 * t.binning / timed, 100 * t.integrate / timed, t.list_builds, last.time, last.kinetic_energy,
+      last.contacts, writer.path().c_str(), static_cast<long long>(writer.frames_written()),
+      writer.xdmf_path().c_str());
   return 0;
 }
 
@@ -252,10 +284,12 @@ int check_command(const std::vector<std::string>& args) {
     make_analyses(p.scene); // validates the analyses (types, parameters, walls)
     const std::string physics = physics_name(p.config.contact); // "@<method>" under direct scaling
     bool compiled = false;
-    for (const auto& c : compiled_physics()) compiled = compiled || c == physics;
+    for (const auto& c : compiled_physics())
+      compiled = compiled || c == physics;
     if (!compiled) {
       std::string list;
-      for (const auto& c : compiled_physics()) list += " " + c;
+      for (const auto& c : compiled_physics())
+        list += " " + c;
       throw SceneError(scene_error_message(p.scene.source_file, "contact",
                                            "the combination '" + physics + "' is not compiled",
                                            "choose one of:" + list));
@@ -266,14 +300,17 @@ int check_command(const std::vector<std::string>& args) {
     std::printf("time step    %.4g s: %s\n", p.dt.step, p.dt.reason.c_str());
     std::printf("             Rayleigh time %.4g s, shortest contact time %.4g s, %.0f steps per contact\n",
                 p.dt.rayleigh_time, p.dt.contact_time, p.dt.contact_time / p.dt.step);
-    std::printf("end time     %.4g s = %.0f steps\n", p.scene.time.end, std::ceil(p.scene.time.end / p.dt.step));
+    std::printf("end time     %.4g s = %.0f steps\n", p.scene.time.end,
+                std::ceil(p.scene.time.end / p.dt.step));
     std::printf("particles    %zu\n", p.particles.size());
     for (std::size_t g = 0; g < p.scene.groups.size(); ++g) {
       std::size_t count = 0;
-      for (int gi : p.particles.group) count += gi == static_cast<int>(g);
+      for (int gi : p.particles.group)
+        count += gi == static_cast<int>(g);
       const auto& cg = p.scene.groups[g].coarse_grain;
       std::printf("  group %-10s %zu particles, material %s, coarse-graining %s (k = %g)\n",
-                  p.scene.groups[g].name.c_str(), count, p.scene.groups[g].material.c_str(), cg.law.c_str(), cg.factor);
+                  p.scene.groups[g].name.c_str(), count, p.scene.groups[g].material.c_str(), cg.law.c_str(),
+                  cg.factor);
     }
     std::printf("walls        %zu named, %zu parts\n", p.config.wall_names.size(), p.config.walls.size());
     std::printf("skin         %.4g m\n", p.config.skin);
@@ -281,8 +318,8 @@ int check_command(const std::vector<std::string>& args) {
     const double n = static_cast<double>(p.particles.size());
     const double store = 2 * n * (8 + 21 * 8 + 4 * 8 + 5 * 4);
     const double list = 2 * 1.2 * n * 14 * (4 + 8 * 3) + 2 * n * 4;
-    std::printf("memory       about %s (particles %s, neighbour lists and history %s)\n", human_bytes(store + list).c_str(),
-                human_bytes(store).c_str(), human_bytes(list).c_str());
+    std::printf("memory       about %s (particles %s, neighbour lists and history %s)\n",
+                human_bytes(store + list).c_str(), human_bytes(store).c_str(), human_bytes(list).c_str());
     return 0;
   } catch (const SceneError& e) {
     std::cerr << "cgdem: " << e.what() << "\n";
@@ -305,11 +342,14 @@ int info_command(const std::vector<std::string>& args) {
   std::printf("cgdem %s\n", CGDEM_VERSION);
   std::printf("Kokkos %d.%d.%d\n", KOKKOS_VERSION / 10000, KOKKOS_VERSION / 100 % 100, KOKKOS_VERSION % 100);
   std::printf("backends:");
-  for (const auto& b : compiled_backends()) std::printf(" %s (%d threads)", b.c_str(), backend_threads(b));
+  for (const auto& b : compiled_backends())
+    std::printf(" %s (%d threads)", b.c_str(), backend_threads(b));
   std::printf("\ndefault backend: %s\n", default_backend().c_str());
   std::printf("compiled contact laws (normal[+adhesion][+tangential][+rolling]):\n");
-  for (const auto& c : compiled_physics()) std::printf("  %s\n", c.c_str());
-  std::printf("force accumulation: full neighbour list, per-particle gather (deterministic on every backend)\n");
+  for (const auto& c : compiled_physics())
+    std::printf("  %s\n", c.c_str());
+  std::printf(
+      "force accumulation: full neighbour list, per-particle gather (deterministic on every backend)\n");
   return 0;
 }
 

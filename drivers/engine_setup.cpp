@@ -7,14 +7,17 @@
 namespace cgdem {
 
 namespace {
-Vec3 to_vec(const Vec3d& v) { return Vec3{v[0], v[1], v[2]}; }
+Vec3 to_vec(const Vec3d& v) {
+  return Vec3{v[0], v[1], v[2]};
+}
 Vec3 unit(const Vec3d& v) {
   const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   return Vec3{v[0] / n, v[1] / n, v[2] / n};
 }
 } // namespace
 
-EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles, const TimeStepEstimate& dt) {
+EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles,
+                                const TimeStepEstimate& dt) {
   EngineConfig c;
   c.particles = particles;
   // Coarse-graining (core/scaling.hpp): pair tables over material slots (material, factor), parameter
@@ -32,16 +35,19 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
   c.wall_params = std::move(tables.wall_params);
   if (scene.contact.jkr_separation == "pull_off")
     for (auto* table : {&c.pair_params, &c.wall_params})
-      for (models::PairParameters& p : *table) p.jkr_separate_at_pull_off = 1;
+      for (models::PairParameters& p : *table)
+        p.jkr_separate_at_pull_off = 1;
   if (scene.contact.lever_arm == "radius")
     for (auto* table : {&c.pair_params, &c.wall_params})
-      for (models::PairParameters& p : *table) p.lever_share = 0;
+      for (models::PairParameters& p : *table)
+        p.lever_share = 0;
   c.domain = Domain(to_vec(scene.domain.lo), to_vec(scene.domain.hi), scene.domain.periodic[0],
                     scene.domain.periodic[1], scene.domain.periodic[2]);
   c.gravity = to_vec(scene.gravity);
   c.dt = dt.step;
   double rmax = 0;
-  for (double r : particles.radius) rmax = std::max(rmax, r);
+  for (double r : particles.radius)
+    rmax = std::max(rmax, r);
   c.skin = scene.neighbour.skin >= 0 ? scene.neighbour.skin : scene.neighbour.skin_fraction * 2 * rmax;
   c.reorder_every = scene.neighbour.reorder_every;
   c.max_overlap_fraction = scene.stability.max_overlap_fraction;
@@ -61,6 +67,12 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
     wall.angular_velocity = s.angular_velocity;
     wall.motion_start = s.motion_start;
     wall.motion_stop = s.motion_stop;
+    wall.num_then = static_cast<int>(s.then.size());
+    for (int k = 0; k < wall.num_then && k < Wall::kMaxThen; ++k) {
+      wall.then_velocity[k] = to_vec(s.then[k].velocity);
+      wall.then_start[k] = s.then[k].start;
+      wall.then_stop[k] = s.then[k].stop;
+    }
     c.walls.push_back(wall);
     if (wall.type == Wall::Cylinder && s.caps) {
       // End caps: disks at both ends facing inward, moving with the cylinder.

@@ -46,7 +46,8 @@ const std::vector<std::string> kAdhesionLaws = {"none", "dmt", "jkr_simplified",
 const std::vector<std::string> kTangentialLaws = {"mindlin", "none"};
 const std::vector<std::string> kRollingLaws = {"none", "constant_torque", "spring_dashpot"};
 const std::vector<std::string> kCoarseLaws = {
-    "none", "chen_elliott", "bond", "cohesion", "thakur", "hu_method1", "hu_method2", "hu_method3", "sakai"};
+    "none",       "chen_elliott", "bond",       "cohesion", "thakur", "thakur_f0_linear", "thakur_f0_cubic",
+    "hu_method1", "hu_method2",   "hu_method3", "sakai"};
 const std::vector<std::string> kDistributions = {"mono", "uniform", "normal", "lognormal"};
 const std::vector<std::string> kPlacements = {"lattice", "random_box", "random_cylinder", "file"};
 const std::vector<std::string> kWallTypes = {"plane", "cylinder"};
@@ -435,8 +436,9 @@ struct Parser {
   }
 
   void parse_contact(const Field& f) {
-    MapView m(ctx, f, {"normal", "adhesion", "tangential", "rolling", "wall_adhesion", "jkr_separation",
-                                 "lever_arm"});
+    MapView m(
+        ctx, f,
+        {"normal", "adhesion", "tangential", "rolling", "wall_adhesion", "jkr_separation", "lever_arm"});
     ContactSpec& c = scene.contact;
     if (m.has("normal")) c.normal = as_choice(ctx, m.get("normal"), kNormalLaws, "normal law");
     if (m.has("adhesion")) c.adhesion = as_choice(ctx, m.get("adhesion"), kAdhesionLaws, "adhesion law");
@@ -445,7 +447,8 @@ struct Parser {
     if (m.has("rolling")) c.rolling = as_choice(ctx, m.get("rolling"), kRollingLaws, "rolling law");
     opt_bool(ctx, m, "wall_adhesion", c.wall_adhesion);
     if (m.has("jkr_separation"))
-      c.jkr_separation = as_choice(ctx, m.get("jkr_separation"), {"delta_s", "pull_off"}, "JKR separation rule");
+      c.jkr_separation =
+          as_choice(ctx, m.get("jkr_separation"), {"delta_s", "pull_off"}, "JKR separation rule");
     if (m.has("lever_arm"))
       c.lever_arm = as_choice(ctx, m.get("lever_arm"), {"contact_point", "radius"}, "lever arm");
     if ((c.normal == "jkr" || c.normal == "eepa") && (c.adhesion == "dmt" || c.adhesion == "jkr_simplified"))
@@ -703,7 +706,7 @@ struct Parser {
   }
 
   void parse_motion(const Field& f, WallSpec& w) {
-    MapView m(ctx, f, {"velocity", "angular_velocity", "rpm", "start", "stop"});
+    MapView m(ctx, f, {"velocity", "angular_velocity", "rpm", "start", "stop", "then"});
     opt_vec3(ctx, m, "velocity", w.velocity);
     if (m.has("angular_velocity") && m.has("rpm"))
       ctx.fail(m.sub("rpm"), m.get("rpm").mark, "both angular_velocity and rpm are given",
@@ -717,6 +720,26 @@ struct Parser {
       check(ctx, w.motion_stop > w.motion_start, m.get("stop"),
             "stop " + num_str(w.motion_stop) + " is not after start " + num_str(w.motion_start),
             "make stop later than start (or leave it out: moves until the end)");
+    if (m.has("then")) {
+      const Field list = m.get("then");
+      if (!list.node.IsSequence() || list.node.size() > WallSpec::kMaxThen)
+        ctx.fail(list.path, list.mark,
+                 "expected a list of up to " + std::to_string(WallSpec::kMaxThen) + " motion segments, got " +
+                     describe(list.node),
+                 "write then: [{velocity: [0, 0, -0.005], start: 0.3, stop: 0.5}]");
+      for (std::size_t i = 0; i < list.node.size(); ++i) {
+        MapView s(ctx, item(list, i), {"velocity", "start", "stop"});
+        WallSpec::Segment seg;
+        opt_vec3(ctx, s, "velocity", seg.velocity);
+        seg.start = as_num(ctx, s.require("start", "give the segment's start time in s"));
+        seg.stop = as_num(ctx, s.require("stop", "give the segment's stop time in s"));
+        non_negative(ctx, s, "start", seg.start, "give the start time in s, >= 0");
+        check(ctx, seg.stop > seg.start, s.get("stop"),
+              "stop " + num_str(seg.stop) + " is not after start " + num_str(seg.start),
+              "make stop later than start");
+        w.then.push_back(seg);
+      }
+    }
   }
 
   void parse_walls(const Field& f) {

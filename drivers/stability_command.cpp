@@ -51,7 +51,7 @@ bool floor_holds(const Scene& s) {
 
 bool driven(const Scene& s) {
   for (const WallSpec& w : s.walls)
-    if (dot3(w.velocity, w.velocity) > 0 || w.angular_velocity != 0) return true;
+    if (w.translates() || w.angular_velocity != 0) return true;
   return false;
 }
 
@@ -166,6 +166,7 @@ Scene conservative_scene(const Scene& scene, bool* gravity_kept) {
   }
   for (WallSpec& w : s.walls) {
     w.velocity = {0, 0, 0};
+    w.then.clear();
     w.angular_velocity = 0;
   }
   const bool keep = floor_holds(scene);

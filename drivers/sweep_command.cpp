@@ -2,6 +2,7 @@
 #include <fcntl.h>
 #include <hdf5.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <algorithm>
@@ -172,8 +173,9 @@ std::string self_exe() {
 
 // Runs argv in `dir` with stdout+stderr to `log`; returns the wait status. The child dies with the thread
 // that waits for it (PR_SET_PDEATHSIG), so killing the sweep leaves no orphan writing into a run directory.
+// Runs the child and waits; *cpu_seconds receives its user + system time (rusage of the child).
 int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::string>& env,
-                   const std::string& dir, const std::string& log) {
+                   const std::string& dir, const std::string& log, double* cpu_seconds) {
   std::vector<char*> a, e;
   for (const auto& s : argv)
     a.push_back(const_cast<char*>(s.c_str()));
@@ -199,8 +201,11 @@ int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::
     _exit(127);
   }
   int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  struct rusage usage {};
+  while (wait4(pid, &status, 0, &usage) < 0 && errno == EINTR) {
   }
+  const auto seconds = [](const timeval& t) { return double(t.tv_sec) + 1e-6 * double(t.tv_usec); };
+  *cpu_seconds = seconds(usage.ru_utime) + seconds(usage.ru_stime);
   return status;
 }
 
@@ -261,7 +266,8 @@ struct Sweep {
     // One single-threaded run per core: Kokkos' default pinning would put them all on the first core.
     if (unpin) env.push_back("OMP_PROC_BIND=false");
     const auto start = std::chrono::steady_clock::now();
-    const int status = spawn_and_wait(argv, env, rundir.string(), log);
+    double cpu = 0;
+    const int status = spawn_and_wait(argv, env, rundir.string(), log, &cpu);
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     RunRecord r;
     r.run = plan.run;
@@ -269,6 +275,7 @@ struct Sweep {
     r.k = plan.k;
     r.threads = threads;
     r.wall_time = wall;
+    r.cpu_time = cpu;
     if (!WIFEXITED(status)) {
       std::lock_guard<std::mutex> lock(print);
       std::fprintf(stderr, "sweep: run %s was killed (signal %d); it will run again next time\n",
@@ -332,9 +339,11 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
                "time_step",
                "threads",
                "wall_time_s",
+               "cpu_time_s",
                "particle_steps_per_s",
                "engine_particle_steps_per_s",
-               "speedup"};
+               "speedup",
+               "speedup_cpu"};
   for (const auto& m : metrics)
     t.columns.push_back(m);
   for (const auto& m : metrics)
@@ -355,9 +364,11 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
                           r.time_step,
                           double(r.threads),
                           r.wall_time,
+                          r.cpu_time,
                           r.particle_steps_per_s,
                           r.engine_particle_steps_per_s,
-                          row.speedup};
+                          row.speedup,
+                          row.speedup_cpu};
     auto get = [&](const std::map<std::string, double>& m, const std::string& k) {
       auto it = m.find(k);
       return it == m.end() ? nan : it->second;
@@ -461,9 +472,9 @@ void write_record(const std::string& path, const RunRecord& r) {
   std::ostringstream s;
   s << "run " << r.run << "\nlaw " << r.law << "\nk " << fmt(r.k) << "\nstatus " << r.status << "\nexit_code "
     << r.exit_code << "\nthreads " << r.threads << "\nparticles " << r.particles << "\nsteps " << r.steps
-    << "\ntime_step " << fmt(r.time_step) << "\nwall_time_s " << fmt(r.wall_time) << "\nparticle_steps_per_s "
-    << fmt(r.particle_steps_per_s) << "\nengine_particle_steps_per_s " << fmt(r.engine_particle_steps_per_s)
-    << "\n";
+    << "\ntime_step " << fmt(r.time_step) << "\nwall_time_s " << fmt(r.wall_time) << "\ncpu_time_s "
+    << fmt(r.cpu_time) << "\nparticle_steps_per_s " << fmt(r.particle_steps_per_s)
+    << "\nengine_particle_steps_per_s " << fmt(r.engine_particle_steps_per_s) << "\n";
   for (const auto& kv : r.values)
     s << "value " << kv.first << " " << fmt(kv.second) << "\n";
   for (const auto& kv : r.samples) {
@@ -525,6 +536,8 @@ RunRecord read_record(const std::string& path) {
       ls >> r.time_step;
     else if (key == "wall_time_s")
       ls >> r.wall_time;
+    else if (key == "cpu_time_s")
+      ls >> r.cpu_time;
     else if (key == "particle_steps_per_s")
       ls >> r.particle_steps_per_s;
     else if (key == "engine_particle_steps_per_s")
@@ -554,6 +567,7 @@ std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const Run
     row.record = r;
     const bool ok = r.exit_code == 0 && ref.exit_code == 0;
     row.speedup = ok && r.wall_time > 0 ? ref.wall_time / r.wall_time : std::nan("");
+    row.speedup_cpu = ok && r.cpu_time > 0 && ref.cpu_time > 0 ? ref.cpu_time / r.cpu_time : std::nan("");
     if (ok) {
       for (const auto& kv : ref.values) {
         auto it = r.values.find(kv.first);
@@ -781,7 +795,8 @@ int sweep_command(const std::vector<std::string>& args) {
     std::fprintf(stderr, "done: %d runs in %.1f s; wrote %s, sweep.h5 and the plots in %s\n", s.total, wall,
                  csv.c_str(), s.dir.c_str());
     for (const auto& r : rows) {
-      std::fprintf(stderr, "  %-24s speed-up %7.2f", r.record.run.c_str(), r.speedup);
+      std::fprintf(stderr, "  %-24s speed-up %7.2f (CPU time %7.2f)", r.record.run.c_str(), r.speedup,
+                   r.speedup_cpu);
       for (const auto& a : s.analyses) {
         auto e = r.error.find(a->name());
         auto ks = r.ks.find(a->name());

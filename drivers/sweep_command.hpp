@@ -31,6 +31,7 @@ struct RunRecord {
   int exit_code = 0;
   long particles = 0, steps = 0;
   double time_step = 0, wall_time = 0, particle_steps_per_s = 0, engine_particle_steps_per_s = 0;
+  double cpu_time = 0; // user + system seconds of the run's process (0: not recorded)
   int threads = 1;
   std::map<std::string, double> values;               // final value of every analysis output
   std::map<std::string, std::vector<double>> samples; // distribution analyses: final-frame samples
@@ -39,11 +40,12 @@ struct RunRecord {
 void write_record(const std::string& path, const RunRecord& r); // atomic
 RunRecord read_record(const std::string& path);                 // throws std::runtime_error
 
-// A run against the reference: speed-up = reference wall time / run wall time; errors = |x - x_ref| /
+// A run against the reference: speed-up = reference wall time / run wall time (speedup_cpu: the same with
+// CPU seconds, which a loaded machine does not distort for single-threaded runs); errors = |x - x_ref| /
 // |x_ref| per value (|x - x_ref| when x_ref = 0); W1 and KS between the sample sets of each distribution.
 struct SweepRow {
   RunRecord record;
-  double speedup = 0;
+  double speedup = 0, speedup_cpu = 0;
   std::map<std::string, double> error, w1, ks;
 };
 std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& reference);

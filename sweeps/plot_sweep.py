@@ -3,8 +3,8 @@
 
 usage: plot_sweep.py SWEEP.csv OUTDIR [--metrics m1,m2,...]
 
-OUTDIR/speedup.png: speed-up against k, one curve per law, with the ideal k^3 (fewer particles) and k^4
-(fewer particles and a k times longer step) lines.
+OUTDIR/speedup.png: speed-up against k, one curve per law (wall time, and CPU time when recorded), with the
+ideal k^3 (fewer particles) and k^4 (fewer particles and a k times longer step) lines.
 OUTDIR/error.png: error against speed-up, one panel per metric (relative error of the analysis' main value,
 or the KS distance for a velocity distribution), one curve per law; dotted verticals at k^3 and k^4.
 """
@@ -52,7 +52,11 @@ def main():
     ax.plot(kk, [k**4 for k in kk], "k:", lw=1, label="ideal $k^4$")
     for law in laws:
         x, y = curve(law, "speedup")
-        ax.plot(x, y, "o-", label=law)
+        line, = ax.plot(x, y, "o-", label=f"{law} (wall time)")
+        if "speedup_cpu" in rows[0]:
+            x, y = curve(law, "speedup_cpu")
+            if any(math.isfinite(v) for v in y[1:]):
+                ax.plot(x, y, "s--", mfc="none", color=line.get_color(), label=f"{law} (CPU time)")
     ax.set_yscale("log")
     ax.set_xlabel("scale factor k")
     ax.set_ylabel("speed-up (reference wall time / run wall time)")

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include <random>
+#include "core/wall.hpp"
 #include "drivers/analyses.hpp"
 #include "drivers/scene_parser.hpp"
 
@@ -202,6 +203,83 @@ analyses:
   EXPECT_NEAR(out.at("ucs_peak_strain"), 0.1, 1e-12);
   EXPECT_NEAR(out.at("ucs_stress"), 1e4, 1e-6);
   EXPECT_NEAR(out.at("ucs_strain"), 0.15, 1e-12);
+}
+
+TEST(Analyses, SegmentedPistonApproachLoadUnloadAndStrainFromTestStart) {
+  // A piston that approaches fast (0.1 m/s for 0.1 s), loads (-1 mm/s for 1 s), then unloads (+1 mm/s for
+  // 0.5 s): the scene's displacement, the device wall's offset and surface velocity, and the analyses'
+  // strain counted from the start of loading (`from`) all follow the segments.
+  Scene s = parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [0.01, 0.01, 0.2]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+walls:
+  - name: piston
+    material: m
+    point: [0, 0, 0.15]
+    normal: [0, 0, -1]
+    motion: {velocity: [0, 0, -0.1], start: 0.1, stop: 0.2,
+             then: [{velocity: [0, 0, -0.001], start: 0.2, stop: 1.2}, {velocity: [0, 0, 0.001], start: 1.2, stop: 1.7}]}
+time: {end: 2}
+analyses:
+  - {type: wall_stress, name: s, wall: piston, area: 1e-4, initial_height: 0.01, from: 0.2}
+  - {type: unconfined_strength, name: ucs, wall: piston, area: 1e-4, initial_height: 0.01, from: 0.2}
+)",
+                             "<test>");
+  const WallSpec& w = s.walls[0];
+  ASSERT_EQ(w.then.size(), 2u);
+  for (auto [t, z] : {std::pair{0.05, 0.0},
+                      {0.15, -0.005},
+                      {0.2, -0.01},
+                      {0.7, -0.0105},
+                      {1.2, -0.011},
+                      {1.45, -0.01075},
+                      {2.0, -0.0105}})
+    EXPECT_NEAR(w.displacement(t)[2], z, 1e-15) << "t=" << t;
+  Wall dev;
+  dev.velocity = {0, 0, -0.1};
+  dev.motion_start = 0.1;
+  dev.motion_stop = 0.2;
+  dev.num_then = 2;
+  dev.then_velocity[0] = {0, 0, -0.001};
+  dev.then_start[0] = 0.2;
+  dev.then_stop[0] = 1.2;
+  dev.then_velocity[1] = {0, 0, 0.001};
+  dev.then_start[1] = 1.2;
+  dev.then_stop[1] = 1.7;
+  for (double t : {0.05, 0.15, 0.7, 1.45, 2.0})
+    EXPECT_NEAR(dev.offset(t).z, w.displacement(t)[2], 1e-15) << t;
+  EXPECT_EQ(dev.translation_velocity(0.15).z, -0.1);
+  EXPECT_EQ(dev.translation_velocity(0.7).z, -0.001);
+  EXPECT_EQ(dev.translation_velocity(1.45).z, 0.001);
+  EXPECT_EQ(dev.translation_velocity(1.8).z, 0.0);
+  auto list = make_analyses(s);
+  FrameData f;
+  add(f, 0.005, 0.005, 0.005, 0.001);
+  std::map<std::string, double> out;
+  const std::vector<std::string> names{"piston"};
+  // During the approach the piston is pushed hard (an impact); it must not count as strength.
+  run_analyses(list, AnalysisInput{f, 0.15, names, {0, 0, 9}}, out);
+  EXPECT_NEAR(out.at("s_strain"), 0, 1e-15);
+  run_analyses(list, AnalysisInput{f, 0.7, names, {0, 0, 2}}, out);
+  EXPECT_NEAR(out.at("s_strain"), 0.05, 1e-12); // 0.5 mm of loading over 10 mm
+  EXPECT_NEAR(out.at("ucs"), 2e4, 1e-6);
+  run_analyses(list, AnalysisInput{f, 1.45, names, {0, 0, 1}}, out);
+  EXPECT_NEAR(out.at("s_strain"), 0.075, 1e-12); // unloaded by 0.25 mm
+  EXPECT_NEAR(out.at("ucs"), 2e4, 1e-6);
+  EXPECT_NEAR(out.at("ucs_peak_strain"), 0.05, 1e-12);
+  // A segment whose stop is not after its start is a one-line scene error.
+  try {
+    parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+walls: [{name: p, material: m, motion: {then: [{velocity: [0, 0, 1], start: 0.5, stop: 0.2}]}}]
+time: {end: 1}
+)",
+                     "<test>");
+    FAIL() << "accepted a segment that stops before it starts";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("walls.0.motion.then.0.stop"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Analyses, VelocityDistributionSummaries) {

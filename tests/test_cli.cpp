@@ -32,7 +32,7 @@ std::string slurp(const fs::path& p) {
 }
 
 class CliTest : public ::testing::Test {
- protected:
+protected:
   fs::path dir;
   void SetUp() override {
     dir = fs::temp_directory_path() /
@@ -140,8 +140,8 @@ TEST_F(CliTest, BadInputGivesOneLineExitTwoAndNoOutput) {
   write("overlap.csv", "id,x,y,z,radius\n1,0.005,0.005,0.005,0.0005\n2,0.005,0.005,0.0058,0.0005\n");
   struct Case {
     const char* what;
-    std::string set;     // --set override applied to the good scene
-    const char* expect;  // text the message must contain
+    std::string set;    // --set override applied to the good scene
+    const char* expect; // text the message must contain
   };
   const std::vector<Case> cases = {
       {"unknown key", "--set materials.beads.youngs_modulos=5e6", "did you mean 'youngs_modulus'"},
@@ -151,8 +151,10 @@ TEST_F(CliTest, BadInputGivesOneLineExitTwoAndNoOutput) {
       {"poisson ratio", "--set materials.beads.poisson_ratio=0.7", "poisson_ratio"},
       {"restitution", "--set materials.beads.restitution=1.5", "restitution"},
       {"particle outside the domain", "--set groups.0.placement.hi=[0.01,0.01,0.05]", "domain"},
-      {"initial overlaps", "--set 'groups.0={name: g, material: beads, placement: {type: file, file: overlap.csv}}'", "overlap"},
-      {"unreadable particle file", "--set 'groups.0={name: g, material: beads, placement: {type: file, file: missing.csv}}'",
+      {"initial overlaps",
+       "--set 'groups.0={name: g, material: beads, placement: {type: file, file: overlap.csv}}'", "overlap"},
+      {"unreadable particle file",
+       "--set 'groups.0={name: g, material: beads, placement: {type: file, file: missing.csv}}'",
        "missing.csv"},
       {"time step above the stable limit", "--set time.step=1e-4", "time.step"},
   };
@@ -165,6 +167,13 @@ TEST_F(CliTest, BadInputGivesOneLineExitTwoAndNoOutput) {
     EXPECT_FALSE(fs::exists(dir / "bad.h5")) << c.what;
     EXPECT_FALSE(fs::exists(dir / "bad.xdmf")) << c.what;
   }
+  // An output directory that does not exist: a one-line error before any work, not an abort.
+  const Result nodir = cgdem("run base.yaml --out no_such_dir/out.h5");
+  EXPECT_EQ(nodir.code, 2) << nodir.err;
+  EXPECT_NE(nodir.err.find("no_such_dir"), std::string::npos) << nodir.err;
+  EXPECT_NE(nodir.err.find("does not exist"), std::string::npos) << nodir.err;
+  EXPECT_EQ(std::count(nodir.err.begin(), nodir.err.end(), '\n'), 1) << nodir.err;
+  EXPECT_FALSE(fs::exists(dir / "no_such_dir"));
   // Missing required key: remove the materials' density by rewriting the scene.
   std::string text = drop_scene;
   text.erase(text.find("    density: 2500\n"), std::string("    density: 2500\n").size());
@@ -202,7 +211,10 @@ TEST_F(CliTest, RestartFromCheckpointEqualsUninterruptedRunBitwise) {
   ASSERT_EQ(cgdem("run base.yaml --quiet --threads 1 --out half.h5 --checkpoint-every 0.02").code, 0);
   ASSERT_TRUE(fs::exists(dir / "half.checkpoint.h5"));
   // The checkpoint holds the last multiple of 0.02 s: the end (0.04 s). Take one from mid-run instead.
-  ASSERT_EQ(cgdem("run base.yaml --quiet --threads 1 --out mid.h5 --set time.end=0.02 --checkpoint-every 0.02").code, 0);
+  ASSERT_EQ(
+      cgdem("run base.yaml --quiet --threads 1 --out mid.h5 --set time.end=0.02 --checkpoint-every 0.02")
+          .code,
+      0);
   const Result r = cgdem("run base.yaml --quiet --threads 2 --out cont.h5 --restart mid.checkpoint.h5");
   ASSERT_EQ(r.code, 0) << r.err;
   hid_t a = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -211,7 +223,7 @@ TEST_F(CliTest, RestartFromCheckpointEqualsUninterruptedRunBitwise) {
     const auto x = read_doubles(a, last_frame(a) + "/" + field);
     const auto y = read_doubles(b, last_frame(b) + "/" + field);
     ASSERT_EQ(x.size(), 1500u);
-    EXPECT_TRUE(x == y) << field << " differs after restart";  // bitwise
+    EXPECT_TRUE(x == y) << field << " differs after restart"; // bitwise
   }
   H5Fclose(a);
   H5Fclose(b);
@@ -220,20 +232,23 @@ TEST_F(CliTest, RestartFromCheckpointEqualsUninterruptedRunBitwise) {
 TEST_F(CliTest, SigkillMidRunLeavesEveryCompletedFrameReadable) {
   write("base.yaml", drop_scene);
   for (int attempt = 0; attempt < 3; ++attempt) {
-    for (const char* f : {"killed.h5", "killed.xdmf", "killed.h5.shadow"}) fs::remove(dir / f);
+    for (const char* f : {"killed.h5", "killed.xdmf", "killed.h5.shadow"})
+      fs::remove(dir / f);
     const pid_t pid = fork();
     if (pid == 0) {
       chdir(dir.c_str());
       freopen("/dev/null", "w", stderr);
-      execl(CGDEM_BINARY, CGDEM_BINARY, "run", "base.yaml", "--quiet", "--threads", "1", "--out", "killed.h5", "--set",
-            "output.every=0.0005", "--set", "time.end=1.0", static_cast<char*>(nullptr));
+      execl(CGDEM_BINARY, CGDEM_BINARY, "run", "base.yaml", "--quiet", "--threads", "1", "--out", "killed.h5",
+            "--set", "output.every=0.0005", "--set", "time.end=1.0", static_cast<char*>(nullptr));
       _exit(127);
     }
     // Wait until the XDMF lists a few frames, then kill at a different moment each attempt.
     for (int wait = 0; wait < 600; ++wait) {
       const std::string x = slurp(dir / "killed.xdmf");
       std::size_t grids = 0;
-      for (std::size_t at = x.find("<Grid Name=\"frame"); at != std::string::npos; at = x.find("<Grid Name=\"frame", at + 1)) ++grids;
+      for (std::size_t at = x.find("<Grid Name=\"frame"); at != std::string::npos;
+           at = x.find("<Grid Name=\"frame", at + 1))
+        ++grids;
       if (grids >= 3) break;
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
@@ -256,7 +271,8 @@ TEST_F(CliTest, SigkillMidRunLeavesEveryCompletedFrameReadable) {
       std::snprintf(name, sizeof name, "/frames/%06lld/position", static_cast<long long>(k));
       const auto x = read_doubles(f, name);
       ASSERT_EQ(x.size(), 1500u) << name;
-      for (double v : x) ASSERT_TRUE(std::isfinite(v));
+      for (double v : x)
+        ASSERT_TRUE(std::isfinite(v));
     }
     H5Fclose(f);
   }
@@ -308,11 +324,13 @@ TEST_F(CliTest, OutputFollowsTheHdf5AndXdmfContract) {
   ASSERT_EQ(r.code, 0) << r.err;
   hid_t f = H5Fopen((dir / "drop.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   ASSERT_GE(f, 0);
-  for (const char* a : {"cgdem_version", "scene", "backend", "threads", "time_step", "scaling_law", "scale_factor"})
+  for (const char* a :
+       {"cgdem_version", "scene", "backend", "threads", "time_step", "scaling_law", "scale_factor"})
     EXPECT_GT(H5Aexists(f, a), 0) << a;
   const int frames = frame_count(f);
   EXPECT_GE(frames, 5);
-  for (const char* ds : {"id", "radius", "mass", "group"}) EXPECT_EQ(shape(f, "/frames/000001/" + std::string(ds)), std::vector<hsize_t>{500}) << ds;
+  for (const char* ds : {"id", "radius", "mass", "group"})
+    EXPECT_EQ(shape(f, "/frames/000001/" + std::string(ds)), std::vector<hsize_t>{500}) << ds;
   for (const char* ds : {"position", "velocity", "angular_velocity"})
     EXPECT_EQ(shape(f, "/frames/000001/" + std::string(ds)), (std::vector<hsize_t>{500, 3})) << ds;
   for (const char* ds : {"time", "step", "kinetic_energy", "rotational_energy", "contacts"})
@@ -328,7 +346,8 @@ TEST_F(CliTest, OutputFollowsTheHdf5AndXdmfContract) {
   for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), item); it != std::sregex_iterator(); ++it) {
     std::vector<hsize_t> dims;
     std::istringstream ds((*it)[1].str());
-    for (hsize_t d; ds >> d;) dims.push_back(d);
+    for (hsize_t d; ds >> d;)
+      dims.push_back(d);
     EXPECT_EQ(shape(f, (*it)[2].str()), dims) << (*it)[2].str();
     ++checked;
   }

@@ -60,6 +60,13 @@ TEST(ScalingLaws, ParameterMultipliersMatchPhysicsTable) {
   EXPECT_DOUBLE_EQ(th.eepa_k_adh, 150);
   EXPECT_DOUBLE_EQ(th.eepa_f0, -9e-3);
   EXPECT_DOUBLE_EQ(th.youngs_modulus, 1e7);
+  // Thakur's rejected alternatives: the same stiffnesses, f0 as k and k^3.
+  const MaterialSpec lin = scale_material(m, ScalingLaw::ThakurF0Linear, k);
+  const MaterialSpec cub = scale_material(m, ScalingLaw::ThakurF0Cubic, k);
+  EXPECT_DOUBLE_EQ(lin.eepa_k1, 300);
+  EXPECT_DOUBLE_EQ(cub.eepa_k_adh, 150);
+  EXPECT_DOUBLE_EQ(lin.eepa_f0, -3e-3);
+  EXPECT_NEAR(cub.eepa_f0, -27e-3, 1e-17);
   for (ScalingLaw law : {ScalingLaw::None, ScalingLaw::ChenElliott, ScalingLaw::Bond, ScalingLaw::Cohesion,
                          ScalingLaw::Thakur, ScalingLaw::HuMethod1, ScalingLaw::Sakai}) {
     const MaterialSpec s = scale_material(m, law, k); // rho, nu, mu, mu_r, e unchanged by every law

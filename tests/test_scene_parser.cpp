@@ -268,7 +268,8 @@ TEST(SceneParser, CoarseGrain) {
   expect_error(t1, line_of(t1, "factor: 0.5"), "groups.0.coarse_grain.factor", "is below 1", ">= 1");
   const std::string t2 = replaced(ok, "chen_elliott", "chen");
   expect_error(t2, line_of(t2, "law: chen"), "groups.0.coarse_grain.law", "unknown coarse_grain law 'chen'",
-               "none, chen_elliott, bond, cohesion, thakur, hu_method1, hu_method2, hu_method3, sakai");
+               "none, chen_elliott, bond, cohesion, thakur, thakur_f0_linear, thakur_f0_cubic, hu_method1, "
+               "hu_method2, hu_method3, sakai");
   const Scene s =
       parse_scene_text(ok, "scene.yaml", {"groups.1.coarse_grain={law: chen_elliott, factor: 2}"});
   EXPECT_EQ(s.groups[0].coarse_grain.law, "chen_elliott");

@@ -160,6 +160,10 @@ TEST_F(SweepTest, CsvPlotsAndFiguresFromRecords) {
     EXPECT_EQ(r.status, "ok");
     EXPECT_NEAR(csv.num(row, "speedup"), ref.wall_time / r.wall_time, 1e-12 * ref.wall_time / r.wall_time);
     EXPECT_NEAR(csv.num(row, "wall_time_s"), r.wall_time, 1e-12 * r.wall_time);
+    // CPU seconds of the child process: recorded, positive, and their ratio is speedup_cpu.
+    EXPECT_GT(r.cpu_time, 0);
+    EXPECT_GT(ref.cpu_time, r.cpu_time);
+    EXPECT_NEAR(csv.num(row, "speedup_cpu"), ref.cpu_time / r.cpu_time, 1e-9 * ref.cpu_time / r.cpu_time);
     EXPECT_EQ(csv.num(row, "steps"), r.steps);
     EXPECT_NEAR(csv.num(row, "particle_steps_per_s"), double(r.steps) * r.particles / r.wall_time,
                 1e-9 * csv.num(row, "particle_steps_per_s"));
