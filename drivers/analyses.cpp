@@ -386,6 +386,10 @@ public:
     fraction_ = p.num("fit_fraction", 0.6);
     if (!(fraction_ > 0 && fraction_ <= 1))
       p.fail("fit_fraction", "fit_fraction must be in (0, 1]", "e.g. 0.6");
+    average_from_ = p.num("average_from", -1);
+    if (p.has("average_from") && average_from_ < 0)
+      p.fail("average_from", "average_from must be >= 0",
+             "give the time (s) after the first avalanche, e.g. 1.0");
   }
   void evaluate(const AnalysisInput& in, std::map<std::string, double>& out) override {
     if (in.frame.size() == 0) return;
@@ -394,11 +398,23 @@ public:
     out[name()] = fit.angle_deg;
     out[name() + "_rms"] = fit.rms;
     out[name() + "_cells"] = double(fit.cells_used);
+    if (average_from_ < 0) return;
+    // A cohesive bed slumps: the angle of one frame depends on where in the avalanche cycle the run
+    // stops, so the comparable figure is the mean over the output frames of the flowing regime. Each
+    // frame time counts once (the final evaluation may repeat the last output frame).
+    if (in.time >= average_from_ && in.time > last_time_) {
+      sum_ += fit.angle_deg;
+      ++frames_;
+      last_time_ = in.time;
+    }
+    out[name() + "_mean"] = frames_ > 0 ? sum_ / frames_ : 0.0;
   }
 
 private:
   A3 center_{}, axis_{0, 1, 0}, up_{0, 0, 1};
-  double cell_ = 0, fraction_ = 0.6;
+  double cell_ = 0, fraction_ = 0.6, average_from_ = -1;
+  double sum_ = 0, last_time_ = -1;
+  long frames_ = 0;
 };
 
 } // namespace

@@ -135,12 +135,13 @@ TEST(Analyses, PlaneOfKnownTilt) {
   EXPECT_NEAR(p.rms, 0, 1e-12);
 }
 
-TEST(Analyses, DrumBedOfKnownTilt) {
-  // Drum along y through the origin, gravity -z: a bed below the line z = tan(28 deg) x - 0.004 (tops on it).
+// Drum along y through the origin, gravity -z, radius 20 mm: a bed below the line z = tan(tilt) x - 0.004
+// (tops on it).
+static FrameData drum_bed(double tilt_deg) {
   FrameData f;
   std::mt19937_64 rng(5);
   std::uniform_real_distribution<double> u(-1, 1);
-  const double t = std::tan(28 * kPi / 180), r = 0.0003, R = 0.02;
+  const double t = std::tan(tilt_deg * kPi / 180), r = 0.0003, R = 0.02;
   for (int k = 0; k < 30000; ++k) {
     const double x = R * u(rng), y = 0.005 * u(rng);
     const double surface = t * x - 0.004;
@@ -149,9 +150,41 @@ TEST(Analyses, DrumBedOfKnownTilt) {
     add(f, x, y, surface - r, r);
     add(f, x, y, z_floor + r + (surface - z_floor - 2 * r) * 0.5 * (u(rng) + 1), r);
   }
-  const DrumFit fit = drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.0012, 0.6);
+  return f;
+}
+
+TEST(Analyses, DrumBedOfKnownTilt) {
+  const DrumFit fit = drum_angle(drum_bed(28), {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.0012, 0.6);
   EXPECT_NEAR(fit.angle_deg, 28, 1.0);
   EXPECT_GT(fit.cells_used, 10u);
+}
+
+TEST(Analyses, DrumMeanAngleAveragesTheFramesFromTheGivenTimeOnce) {
+  Scene s = parse_scene_text(R"(domain: {lo: [-0.03, -0.01, -0.03], hi: [0.03, 0.01, 0.03]}
+gravity: [0, 0, -9.81]
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.0003}, placement: {type: lattice}}]
+walls: [{name: drum, type: cylinder, material: m, point: [0, -0.01, 0], axis: [0, 1, 0], radius: 0.02,
+         length: 0.02}]
+time: {end: 2}
+analyses: [{type: drum_angle, name: a, drum: drum, cell_width: 0.0012, average_from: 1.0}]
+)",
+                             "<test>");
+  auto list = make_analyses(s);
+  const FrameData f40 = drum_bed(40), f20 = drum_bed(20), f30 = drum_bed(30);
+  std::map<std::string, double> out;
+  auto at = [&](const FrameData& f, double t) {
+    run_analyses(list, AnalysisInput{f, t, {}, {}}, out);
+    return out.at("a");
+  };
+  at(f40, 0.5); // before average_from: not counted
+  EXPECT_EQ(out.at("a_mean"), 0.0);
+  const double a20 = at(f20, 1.0);
+  const double a30 = at(f30, 1.5);
+  at(f30, 1.5); // the final evaluation of the last output frame: counted once
+  EXPECT_NEAR(a20, 20, 1.0);
+  EXPECT_NEAR(a30, 30, 1.0);
+  EXPECT_DOUBLE_EQ(out.at("a_mean"), 0.5 * (a20 + a30));
 }
 
 TEST(Analyses, LatticePorosityAndCoordination) {
@@ -330,4 +363,7 @@ time: {end: 1}
   EXPECT_NE(error("analyses: [{type: profile, binz: 3}]").find("unknown parameter 'binz'"),
             std::string::npos);
   EXPECT_NE(error("analyses: [{type: drum_angle, drum: floor}]").find("cylinder"), std::string::npos);
+  EXPECT_NE(error("analyses: [{type: wall_stress, wall: floor, area: 1, initial_height: 1, from: -1}]")
+                .find("from must be >= 0"),
+            std::string::npos);
 }
