@@ -15,6 +15,7 @@
 #include "drivers/analyses.hpp"
 #include "drivers/cli.hpp"
 #include "drivers/engine_setup.hpp"
+#include "drivers/resolution_check.hpp"
 #include "drivers/particle_generation.hpp"
 #include "drivers/scene_parser.hpp"
 #include "kernels/engine.hpp"
@@ -197,6 +198,8 @@ int run_command(const std::vector<std::string>& args) {
   std::fprintf(stderr, "cgdem %s: %s, %d particles, %s on %s (%d threads), dt = %.4g s (%s)\n", CGDEM_VERSION,
                o.scene.c_str(), n, engine->physics().c_str(), backend.c_str(), info.threads, dt,
                p.dt.reason.c_str());
+  for (const std::string& w : resolution_warnings(p.scene))
+    std::fprintf(stderr, "%s\n", w.c_str());
   auto emit = [&]() {
     Observables obs = engine->observe();
     FrameData frame = engine->frame();
@@ -320,6 +323,8 @@ int check_command(const std::vector<std::string>& args) {
     const double list = 2 * 1.2 * n * 14 * (4 + 8 * 3) + 2 * n * 4;
     std::printf("memory       about %s (particles %s, neighbour lists and history %s)\n",
                 human_bytes(store + list).c_str(), human_bytes(store).c_str(), human_bytes(list).c_str());
+    for (const std::string& w : resolution_warnings(p.scene))
+      std::printf("%s\n", w.c_str());
     return 0;
   } catch (const SceneError& e) {
     std::cerr << "cgdem: " << e.what() << "\n";

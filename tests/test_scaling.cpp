@@ -5,6 +5,8 @@
 #include <cmath>
 #include "core/materials.hpp"
 #include "core/scaling.hpp"
+#include "drivers/resolution_check.hpp"
+#include "drivers/scene_parser.hpp"
 #include "models/capillary_bridge.hpp"
 #include "models/hertz_tsuji.hpp"
 #include "models/jkr_full.hpp"
@@ -247,7 +249,7 @@ void check_method(const char* law_name, double l, double overlap_S, bool wall) {
 
 template <class Method>
 void check_all_laws() {
-  for (double l : {2.0, 4.0})
+  for (double l : {2.0, 4.0, 8.0, 16.0}) // 8 and 16: the large factors of the hard-case suite
     for (bool wall : {false, true}) {
       const double ov = 2e-6 * l; // coarse overlap
       check_method<Method, HertzMindlin>("hertz+mindlin", l, ov, wall);
@@ -370,4 +372,49 @@ TEST(ScalingTimeStep, RulePerLaw) {
   // Chen-Elliott's scaled contact itself also has an invariant Hertz time (E* k^2.5).
   const TimeStepEstimate hu2 = estimate_for("hu_method2", 4);
   EXPECT_NEAR(hu2.contact_time / orig.contact_time, std::pow(4.0, (6 - 1 - 3.0) / 5), 1e-9);
+}
+
+TEST(ScalingLaws, WarnsWhenTheContainerHoldsFewerThanFortyCoarseDiameters) {
+  auto warnings = [](const std::string& body, const std::string& group) {
+    const std::string text = R"(materials: {m: {density: 1000, youngs_modulus: 1e6}}
+gravity: [0, 0, -9.81]
+time: {end: 1}
+)" + body + "groups: [" + group +
+                             "]\n";
+    return resolution_warnings(parse_scene_text(text, "w.yaml"));
+  };
+  const std::string hu_box =
+      "domain: {lo: [0, 0, 0], hi: [0.01, 0.01, 0.03], periodic: [true, true, false]}\n"
+      "walls: [{name: floor, material: m}, {name: piston, material: m, point: [0, 0, 0.03],"
+      " normal: [0, 0, -1]}]\n";
+  auto group = [](double r, const std::string& law, double k) {
+    return "{name: g, material: m, count: 1, size: {radius: " + std::to_string(r) +
+           "}, placement: {type: lattice}, coarse_grain: {law: " + law + ", factor: " + std::to_string(k) +
+           "}}";
+  };
+  // Hu's shrunk compression box at l = 4: 10 mm / 2 mm = 5 across (the floor-piston height, along gravity,
+  // is not a width); even the originals have only 20.
+  auto w = warnings(hu_box, group(0.00025, "hu_method1", 4));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("periodic length along x is 10 mm = 5 coarse diameters"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("even the original particles have D/d = 20"), std::string::npos) << w[0];
+  EXPECT_TRUE(warnings(hu_box, group(0.00025, "none", 1)).empty()); // no coarse-graining, no warning
+  // Chen's drum, 84 mm across: 0.5 mm originals at k = 2 have D/d = 42 (fine), at k = 4 only 21.
+  const std::string drum = "domain: {lo: [-0.05, -0.05, 0], hi: [0.05, 0.05, 0.02]}\n"
+                           "walls: [{name: drum, type: cylinder, material: m, axis: [1, 0, 0],"
+                           " point: [-0.01, 0, 0.01], radius: 0.042, length: 0.02}]\n";
+  EXPECT_TRUE(warnings(drum, group(0.0005, "chen_elliott", 2)).empty());
+  w = warnings(drum, group(0.0005, "chen_elliott", 4));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("cylinder 'drum' diameter is 84 mm = 21 coarse diameters"), std::string::npos) << w[0];
+  EXPECT_NE(w[0].find("use k <= 2.1"), std::string::npos) << w[0];
+  // Thakur's box: side walls 50 mm apart, R 3.75 mm coarse particles: 6.67 across.
+  const std::string box = "domain: {lo: [-0.08, -0.08, 0], hi: [0.08, 0.08, 0.16]}\n"
+                          "walls: [{name: left, material: m, point: [-0.025, 0, 0], normal: [1, 0, 0]},"
+                          " {name: right, material: m, point: [0.025, 0, 0], normal: [-1, 0, 0]}]\n";
+  w = warnings(box, group(0.0025, "thakur", 1.5));
+  ASSERT_EQ(w.size(), 1u);
+  EXPECT_NE(w[0].find("gap between walls 'left' and 'right' is 50 mm = 6.67 coarse diameters"),
+            std::string::npos)
+      << w[0];
 }

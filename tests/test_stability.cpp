@@ -21,6 +21,8 @@
 #include <sstream>
 #include "drivers/particle_generation.hpp"
 #include "drivers/stability_command.hpp"
+#include "models/linear_eepa.hpp"
+#include "tests/test_scaling_support.hpp"
 #include "tests/test_support.hpp"
 
 using namespace cgdem;
@@ -48,10 +50,6 @@ std::ofstream report_csv(const std::string& name, const std::string& header) {
 // Exact Hertz contact time constant: t_c = 2 (int_0^1 dx / sqrt(1 - x^2.5)) delta_max / v = 2.94328 delta_max
 // / v (physics.md rounds the equivalent prefactor to 2.868).
 constexpr double hertz_tc_over_dmax_v = 2.9432751843;
-
-double sphere_mass(double rho, double r) {
-  return rho * 4.0 / 3.0 * M_PI * r * r * r;
-}
 
 struct Engined {
   EngineConfig config;
@@ -550,7 +548,7 @@ TEST(StabilityHardCases, JkrThreeOrdersOfSurfaceEnergyAtDefaultStep) {
     const JkrCase c = jkr_case(1e-3, 1500, 5e6, 0.25, g);
     const double v = 3 * c.v_stick;
     Scene s = jkr_scene(c);
-    s.time.resolve_adhesion = true;  // the documented setting for collision-resolved JKR studies
+    s.time.resolve_adhesion = true; // the documented setting for collision-resolved JKR studies
     ParticleSet p;
     add_particle(p, {-1e-3, 0, 0}, {0.5 * v, 0, 0}, c.r, c.rho);
     add_particle(p, {1e-3, 0, 0}, {-0.5 * v, 0, 0}, c.r, c.rho);
@@ -652,4 +650,84 @@ TEST(StabilityHardCases, HuPeriodicBoxCriticalStepDoublesWithFactorUnderMethod1)
   EXPECT_NEAR(critical[2] / critical[1], 2.0, 0.2);
   std::printf("[ report ] critical step ratios: l 1 -> 2: %.4f, l 2 -> 4: %.4f\n", critical[1] / critical[0],
               critical[2] / critical[1]);
+}
+
+TEST(StabilityHardCases, LargeFactorsEightAndSixteenKeepEachLawsInvariant) {
+  // Each law's own claim, at k = 8 and 16 (the laws' k = 2, 4 checks live in test_scaling*.cpp).
+  for (double k : {8.0, 16.0}) {
+    // Chen-Elliott, through the engine: Chen's case c wall impact keeps restitution, contact time, overlap
+    // and F/F_c.
+    const ImpactOutcome c1 = run_impact(chen_case_c("chen_elliott", 1, 2.0));
+    const ImpactOutcome ck = run_impact(chen_case_c("chen_elliott", k, 2.0));
+    ASSERT_FALSE(ck.stuck) << "k=" << k;
+    EXPECT_NEAR(ck.restitution / c1.restitution, 1, 0.01) << "k=" << k;
+    EXPECT_NEAR(ck.contact_time / c1.contact_time, 1, 0.01) << "k=" << k;
+    EXPECT_NEAR(ck.max_overlap / c1.max_overlap, 1, 0.01) << "k=" << k;
+    EXPECT_NEAR(ck.max_attraction / c1.max_attraction, 1, 0.01) << "k=" << k;
+
+    // Hu Method 1, through the engine: the coarse impact is the original one stretched by l in time and
+    // overlap (delta_O = delta_S / l, F_S = l^2 F_O, m_S = l^3 m_O): restitution kept, duration and depth x
+    // l.
+    const ImpactOutcome h1 = run_impact(chen_case_c("hu_method1", 1, 2.0));
+    ImpactSpec hs = chen_case_c("hu_method1", k, 2.0);
+    hs.max_contact_times = 30 * k;
+    const ImpactOutcome hk = run_impact(hs);
+    ASSERT_FALSE(hk.stuck) << "k=" << k;
+    EXPECT_NEAR(hk.restitution / h1.restitution, 1, 0.01) << "k=" << k;
+    EXPECT_NEAR(hk.contact_time / (k * h1.contact_time), 1, 0.01) << "k=" << k;
+    EXPECT_NEAR(hk.max_overlap / (k * h1.max_overlap), 1, 0.01) << "k=" << k;
+
+    // Bond number F_c / (m g) and Behjani's cohesion number (Gamma^5 / (E*^2 R*^8))^(1/3) / (rho g), both
+    // from the scaled material of a pair of equal spheres (R* = R / 2, E* = E / (2 (1 - nu^2))).
+    MaterialSpec m = material("powder", 1600, 1e7, 0.3, 0.6, 0.5);
+    m.surface_energy = 0.015;
+    const double R = 0.5e-3, g = 9.81;
+    auto bond = [&](const MaterialSpec& s, double r) {
+      return 1.5 * M_PI * s.surface_energy * (r / 2) / (s.density * 4.0 / 3.0 * M_PI * r * r * r * g);
+    };
+    auto cohesion = [&](const MaterialSpec& s, double r) {
+      const double E_eff = s.youngs_modulus / (2 * (1 - s.poisson_ratio * s.poisson_ratio));
+      const double Gamma = 2 * s.surface_energy; // work of adhesion of a pair
+      return std::cbrt(std::pow(Gamma, 5) / (E_eff * E_eff * std::pow(r / 2, 8))) / (s.density * g);
+    };
+    EXPECT_NEAR(bond(scale_material(m, ScalingLaw::Bond, k), k * R) / bond(m, R), 1, 1e-12) << "k=" << k;
+    EXPECT_NEAR(cohesion(scale_material(m, ScalingLaw::Cohesion, k), k * R) / cohesion(m, R), 1, 1e-12)
+        << "k=" << k;
+    // Chen-Elliott keeps the Bond number too; Bond scaling does not keep the cohesion number (E unscaled).
+    EXPECT_NEAR(bond(scale_material(m, ScalingLaw::ChenElliott, k), k * R) / bond(m, R), 1, 1e-12);
+    EXPECT_GT(std::fabs(cohesion(scale_material(m, ScalingLaw::Bond, k), k * R) / cohesion(m, R) - 1), 0.5);
+
+    // Thakur: stiffnesses x k, f0 x k^2, so at the similar overlap k delta (and the same overlap rate, mass
+    // x k^3) the whole linear EEPA cycle (virgin loading, unloading, adhesive branch, damping) is k^2 the
+    // original force; f0 x k or x k^3 breaks it where f0 matters (small overlaps).
+    MaterialSpec e = material("eepa", 2000, 1e7, 0.3, 0.5, 0.5);
+    e.eepa_k1 = 1e4;
+    e.eepa_k2 = 5e4;
+    e.eepa_k_adh = 5e3;
+    e.eepa_f0 = -0.4;
+    const models::PairParameters po = mix_pair(e, e, true);
+    const double overlaps[] = {1e-5, 8e-5, 2e-4, 1.2e-4, 3e-5, 5e-6, 1e-6, 1.5e-4};
+    auto worst = [&](ScalingLaw law) {
+      const models::PairParameters ps = scale_pair(po, law, k);
+      Real ho[1] = {0}, hs_[1] = {0};
+      double w = 0;
+      for (double d : overlaps) {
+        models::PairState so{}, ss{};
+        so.overlap = d;
+        ss.overlap = k * d;
+        so.overlap_rate = ss.overlap_rate = -0.01;
+        so.mass_eff = 0.5 * sphere_mass(2000, 2.5e-3);
+        ss.mass_eff = so.mass_eff * k * k * k;
+        const double fo = models::LinearEepa{}(po, so, ho).force,
+                     fs = models::LinearEepa{}(ps, ss, hs_).force;
+        w = std::max(w, std::fabs(fs / (k * k * fo) - 1));
+      }
+      return w;
+    };
+    EXPECT_LT(worst(ScalingLaw::Thakur), 1e-12) << "k=" << k;
+    EXPECT_GT(worst(ScalingLaw::ThakurF0Linear), 0.1) << "k=" << k;
+    EXPECT_GT(worst(ScalingLaw::ThakurF0Cubic), 0.1) << "k=" << k;
+    std::printf("[ report ] k = %g: chen_elliott e %.5f (k=1 %.5f); hu_method1 t_c / (l t_c1) = %.5f\n", k,
+                ck.restitution, c1.restitution, hk.contact_time / (k * h1.contact_time));
+  }
 }
