@@ -132,6 +132,44 @@ std::string checkpoint_path_for(const std::string& h5) {
   return (p.parent_path() / (p.stem().string() + ".checkpoint.h5")).string();
 }
 
+// Particles that leave the domain through a non-periodic side keep moving and interacting, binned in the
+// edge cells; a few are harmless, many slow contact detection and usually mean a wall is missing or the
+// domain is too small. Checked on each output frame; said once when first seen, counted at the end.
+class EscapeWatch {
+public:
+  explicit EscapeWatch(const DomainSpec& d) : domain_(d) {}
+  void check(const FrameData& f) {
+    static const char* axis[3] = {"x", "y", "z"};
+    long outside = 0;
+    std::size_t first = 0;
+    int first_axis = 0;
+    for (std::size_t i = 0; i < f.size(); ++i)
+      for (int a = 0; a < 3; ++a) {
+        const double x = f.position[3 * i + a];
+        if (domain_.periodic[a] || (x >= domain_.lo[a] && x <= domain_.hi[a])) continue;
+        if (outside == 0) first = i, first_axis = a;
+        ++outside;
+        break;
+      }
+    last_count_ = outside;
+    if (outside == 0 || warned_) return;
+    warned_ = true;
+    const double x = f.position[3 * first + first_axis];
+    std::fprintf(stderr,
+                 "\nwarning: t = %.4g s: %ld particle(s) outside the domain (first: id %lld at %s = %.4g m, "
+                 "domain %s in [%.4g, %.4g] m); they keep moving, binned in the edge cells: add a wall or "
+                 "enlarge domain.lo/hi\n",
+                 f.time, outside, static_cast<long long>(f.id[first]), axis[first_axis], x, axis[first_axis],
+                 domain_.lo[first_axis], domain_.hi[first_axis]);
+  }
+  long outside_now() const { return last_count_; }
+
+private:
+  DomainSpec domain_;
+  bool warned_ = false;
+  long last_count_ = 0;
+};
+
 } // namespace
 
 int run_command(const std::vector<std::string>& args) {
@@ -200,9 +238,11 @@ int run_command(const std::vector<std::string>& args) {
                p.dt.reason.c_str());
   for (const std::string& w : resolution_warnings(p.scene))
     std::fprintf(stderr, "%s\n", w.c_str());
+  EscapeWatch escapes(p.scene.domain);
   auto emit = [&]() {
     Observables obs = engine->observe();
     FrameData frame = engine->frame();
+    escapes.check(frame);
     SeriesRow row = series_row(obs);
     run_analyses(analyses, AnalysisInput{frame, obs.time, info.wall_names, obs.wall_force}, row.analyses);
     writer.write_frame(std::move(frame));
@@ -275,6 +315,8 @@ int run_command(const std::vector<std::string>& args) {
       100 * t.binning / timed, 100 * t.integrate / timed, t.list_builds, last.time, last.kinetic_energy,
       last.contacts, writer.path().c_str(), static_cast<long long>(writer.frames_written()),
       writer.xdmf_path().c_str());
+  if (escapes.outside_now() > 0)
+    std::fprintf(stderr, "  %ld particle(s) outside the domain in the last frame\n", escapes.outside_now());
   return 0;
 }
 

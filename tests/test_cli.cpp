@@ -354,3 +354,23 @@ TEST_F(CliTest, OutputFollowsTheHdf5AndXdmfContract) {
   EXPECT_GE(checked, 2 * frames);
   H5Fclose(f);
 }
+
+TEST_F(CliTest, ParticlesLeavingTheDomainAreReportedOnceAndCounted) {
+  // The drop scene without its floor: the lowest layer (z = 1.5 mm at 0.3 m/s and g) is below z = 0 by
+  // the frame at 0.01 s. The run goes on (exit 0), warns once with the first particle and counts at the end.
+  write("drop.yaml", drop_scene);
+  const Result r = cgdem("run drop.yaml --quiet --set 'walls=[]' --set time.end=0.02");
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: t = 0.01 s:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("outside the domain (first: id"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("domain z in [0, 0.03] m"), std::string::npos) << r.err;
+  std::size_t warnings = 0;
+  for (std::size_t at = r.err.find("warning:"); at != std::string::npos; at = r.err.find("warning:", at + 1))
+    ++warnings;
+  EXPECT_EQ(warnings, 1u) << r.err;
+  EXPECT_NE(r.err.find("particle(s) outside the domain in the last frame"), std::string::npos) << r.err;
+  // With the floor nothing escapes and nothing is said.
+  const Result ok = cgdem("run drop.yaml --quiet --set time.end=0.02");
+  EXPECT_EQ(ok.code, 0) << ok.err;
+  EXPECT_EQ(ok.err.find("outside the domain"), std::string::npos) << ok.err;
+}
