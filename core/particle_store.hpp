@@ -13,21 +13,21 @@ struct ParticleStore {
   template <class T>
   using View = Kokkos::View<T, MemorySpace>;
 
-  View<std::int64_t*> id;            // stable identity across reorders (output, checkpoints, history)
+  View<std::int64_t*> id; // stable identity across reorders (output, checkpoints, history)
   View<Real* [3]> position;
   View<Real* [3]> velocity;
   View<Real* [3]> angular_velocity;
-  View<Real* [3]> force;
-  View<Real* [3]> torque;
+  View<ForceReal* [3]> force; // ForceReal: the precision knob (core/types.hpp)
+  View<ForceReal* [3]> torque;
   View<Real* [3]> position_at_build; // where each particle was at the last neighbour-list build
   View<Real*> radius;
   View<Real*> mass;
-  View<Real*> inertia;               // moment of inertia of a solid sphere, 2/5 m R^2
-  View<Real*> scale_factor;          // coarse-graining factor k of the particle's group (1: original)
+  View<Real*> inertia;      // moment of inertia of a solid sphere, 2/5 m R^2
+  View<Real*> scale_factor; // coarse-graining factor k of the particle's group (1: original)
   View<int*> material;
   View<int*> group;
-  View<int*> contacts;               // active particle-particle contacts at the last force evaluation
-  View<int*> wall_contacts;          // active wall contacts at the last force evaluation
+  View<int*> contacts;      // active particle-particle contacts at the last force evaluation
+  View<int*> wall_contacts; // active wall contacts at the last force evaluation
 
   int size() const { return static_cast<int>(id.extent(0)); }
 
@@ -38,8 +38,8 @@ struct ParticleStore {
     position = View<Real* [3]>("cgdem::core::position", n);
     velocity = View<Real* [3]>("cgdem::core::velocity", n);
     angular_velocity = View<Real* [3]>("cgdem::core::angular_velocity", n);
-    force = View<Real* [3]>("cgdem::core::force", n);
-    torque = View<Real* [3]>("cgdem::core::torque", n);
+    force = View<ForceReal* [3]>("cgdem::core::force", n);
+    torque = View<ForceReal* [3]>("cgdem::core::torque", n);
     position_at_build = View<Real* [3]>("cgdem::core::position_at_build", n);
     radius = View<Real*>("cgdem::core::radius", n);
     mass = View<Real*>("cgdem::core::mass", n);
@@ -53,7 +53,8 @@ struct ParticleStore {
 
   // Bytes per particle held by the store (for the memory estimate and benchmarks).
   static constexpr std::size_t bytes_per_particle() {
-    return sizeof(std::int64_t) + 7 * 3 * sizeof(Real) + 4 * sizeof(Real) + 5 * sizeof(int);
+    return sizeof(std::int64_t) + 5 * 3 * sizeof(Real) + 2 * 3 * sizeof(ForceReal) + 4 * sizeof(Real) +
+           5 * sizeof(int);
   }
 };
 
@@ -63,9 +64,10 @@ KOKKOS_INLINE_FUNCTION Vec3 load3(const View& v, int i) {
 }
 template <class View>
 KOKKOS_INLINE_FUNCTION void store3(const View& v, int i, const Vec3& a) {
-  v(i, 0) = a.x;
-  v(i, 1) = a.y;
-  v(i, 2) = a.z;
+  using T = typename View::value_type; // rounds to ForceReal where the view stores it
+  v(i, 0) = static_cast<T>(a.x);
+  v(i, 1) = static_cast<T>(a.y);
+  v(i, 2) = static_cast<T>(a.z);
 }
 
 } // namespace cgdem

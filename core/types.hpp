@@ -7,6 +7,16 @@ namespace cgdem {
 
 using Real = double;
 
+// Storage precision of forces, torques and contact history (the precision knob, CMake option
+// CGDEM_FLOAT_FORCES): every computation stays in double and positions and velocities stay double
+// (a micron-sized overlap at a millimetre coordinate needs double's 16 digits); only what is stored
+// between the force evaluation and its use is rounded, which halves those arrays' memory traffic.
+#ifdef CGDEM_FLOAT_FORCES
+using ForceReal = float;
+#else
+using ForceReal = double;
+#endif
+
 struct Vec3 {
   Real x = 0, y = 0, z = 0;
 

@@ -395,8 +395,10 @@ int info_command(const std::vector<std::string>& args) {
   std::printf("compiled contact laws (normal[+adhesion][+tangential][+rolling]):\n");
   for (const auto& c : compiled_physics())
     std::printf("  %s\n", c.c_str());
-  std::printf(
-      "force accumulation: full neighbour list, per-particle gather (deterministic on every backend)\n");
+  std::printf("force accumulation: half neighbour list, partners' shares gathered in slot order "
+              "(deterministic on every backend)\n");
+  std::printf("precision: positions and velocities double; forces, torques, contact history %s\n",
+              sizeof(ForceReal) == sizeof(float) ? "float (CGDEM_FLOAT_FORCES)" : "double");
   return 0;
 }
 

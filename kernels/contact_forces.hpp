@@ -2,7 +2,10 @@
 // Pair and wall forces in two passes over the particles, both deterministic (no atomics):
 //   1. each particle i evaluates the law once for each pair it owns in the half list and for each wall,
 //      sums what it feels, and leaves in the slot what the partner feels (-force, its torque);
-//   2. each particle adds what its partners left for it, in slot order.
+//   2. each particle adds what its partners left for it, in slot order, and (when asked) applies the
+//      closing half kick of velocity-Verlet with its final force right there: a separate kick kernel
+//      would read force, mass and velocity again and cost one more launch per step, which is what
+//      dominates small coarse-grained scenes.
 // The sum order is fixed by the list alone, so every backend and thread count gives the same bits, and
 // the partner gets exactly the negated force: momentum is conserved to round-off.
 #include <Kokkos_Core.hpp>
@@ -13,6 +16,13 @@
 
 namespace cgdem::kernels {
 
+// The closing half kick v += dt/2 (F/m + g), omega += dt/2 T/I, fused into the force gather.
+struct ClosingKick {
+  bool enabled = false;
+  Vec3 gravity;
+  Real half_dt = 0;
+};
+
 template <class ExecSpace, class Law>
 struct ContactForces {
   using Mem = typename ExecSpace::memory_space;
@@ -22,11 +32,12 @@ struct ContactForces {
   // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
   // the force each particle feels from each wall part is stored there too (for the wall reductions).
   template <class NeighborListT>
-  static void
-  compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
-          const ParamTable& pair_params, const ParamTable& wall_params, const Kokkos::View<Wall*, Mem>& walls,
-          const Kokkos::View<Real**, Kokkos::LayoutRight, Mem>& wall_history,
-          const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach, Law law, int n) {
+  static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
+                      const ParamTable& pair_params, const ParamTable& wall_params,
+                      const Kokkos::View<Wall*, Mem>& walls,
+                      const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
+                      const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach, Law law,
+                      int n, ClosingKick kick = {}) {
     const int nwalls = static_cast<int>(walls.extent(0));
     const bool record_wall_force = wall_force.extent(0) > 0;
     const auto offsets = nl.offsets;
@@ -98,7 +109,7 @@ struct ContactForces {
             const models::ContactForce cf = law(pp, st, h);
             if constexpr (H > 0)
               for (int k = 0; k < H; ++k)
-                history(s, k) = h[k];
+                history(s, k) = static_cast<ForceReal>(h[k]);
             f += cf.force;
             t += cf.torque;
             contacts += cf.active ? 1 : 0;
@@ -147,7 +158,7 @@ struct ContactForces {
               const models::ContactForce cf = law(pp, st, h);
               if constexpr (H > 0)
                 for (int k = 0; k < H; ++k)
-                  wall_history(i, w * H + k) = h[k];
+                  wall_history(i, w * H + k) = static_cast<ForceReal>(h[k]);
               fw = cf.force;
               f += cf.force;
               t += cf.torque;
@@ -174,10 +185,20 @@ struct ContactForces {
             t += load3(slot_torque, s);
             contacts += flag == 2 ? 1 : 0;
           }
-          if (contacts == 0 && norm2(f) == 0 && norm2(t) == 0) return;
-          store3(p.force, j, load3(p.force, j) + f);
-          store3(p.torque, j, load3(p.torque, j) + t);
-          p.contacts(j) += contacts;
+          Vec3 force = load3(p.force, j), torque = load3(p.torque, j);
+          if (contacts != 0 || norm2(f) != 0 || norm2(t) != 0) {
+            force = force + f;
+            torque = torque + t;
+            store3(p.force, j, force);
+            store3(p.torque, j, torque);
+            p.contacts(j) += contacts;
+          }
+          if (!kick.enabled) return;
+          // The closing half kick of velocity-Verlet (the opening one is Integrator::kick_drift).
+          const Real inv_m = 1.0 / p.mass(j);
+          const Real inv_i = 1.0 / p.inertia(j);
+          store3(p.velocity, j, load3(p.velocity, j) + kick.half_dt * (inv_m * force + kick.gravity));
+          store3(p.angular_velocity, j, load3(p.angular_velocity, j) + (kick.half_dt * inv_i) * torque);
         });
   }
 };

@@ -3,7 +3,8 @@
 //   kick_drift: v += dt/2 (F/m + g), omega += dt/2 T/I, x += dt v (wrapped into periodic axes);
 //               returns the largest squared displacement since the last list build (NaN/Inf -> +inf,
 //               which the caller reports as a blow-up);
-//   kick:       v += dt/2 (F/m + g), omega += dt/2 T/I with the new forces.
+// The closing kick, v += dt/2 (F/m + g), omega += dt/2 T/I with the new forces, is fused into the force
+// gather (ContactForces, ClosingKick): the step then costs three kernel launches instead of four.
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
@@ -14,7 +15,8 @@ template <class ExecSpace>
 struct Integrator {
   using Mem = typename ExecSpace::memory_space;
 
-  static Real kick_drift(const ParticleStore<Mem>& p, const Domain& domain, const Vec3& gravity, Real dt, int n) {
+  static Real kick_drift(const ParticleStore<Mem>& p, const Domain& domain, const Vec3& gravity, Real dt,
+                         int n) {
     Real max_disp2 = 0;
     const Real half = 0.5 * dt;
     Kokkos::parallel_reduce(
@@ -29,22 +31,12 @@ struct Integrator {
           store3(p.angular_velocity, i, w);
           store3(p.position, i, x);
           Real d2 = norm2(domain.minimum_image(x - load3(p.position_at_build, i)));
-          if (!math::isfinite(d2) || !math::isfinite(norm2(w))) d2 = Kokkos::Experimental::infinity<Real>::value;
+          if (!math::isfinite(d2) || !math::isfinite(norm2(w)))
+            d2 = Kokkos::Experimental::infinity<Real>::value;
           if (d2 > worst) worst = d2;
         },
         Kokkos::Max<Real>(max_disp2));
     return max_disp2;
-  }
-
-  static void kick(const ParticleStore<Mem>& p, const Vec3& gravity, Real dt, int n) {
-    const Real half = 0.5 * dt;
-    Kokkos::parallel_for(
-        "cgdem::kernels::kick", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          const Real inv_m = 1.0 / p.mass(i);
-          const Real inv_i = 1.0 / p.inertia(i);
-          store3(p.velocity, i, load3(p.velocity, i) + half * (inv_m * load3(p.force, i) + gravity));
-          store3(p.angular_velocity, i, load3(p.angular_velocity, i) + (half * inv_i) * load3(p.torque, i));
-        });
   }
 };
 

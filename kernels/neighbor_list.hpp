@@ -18,7 +18,7 @@ template <class ExecSpace, class Law>
 struct NeighborList {
   using Mem = typename ExecSpace::memory_space;
   static constexpr int H = Law::history_size;
-  using HistoryView = Kokkos::View<Real**, Kokkos::LayoutRight, Mem>;
+  using HistoryView = Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>;
 
   Kokkos::View<int*, Mem> offsets;    // n + 1
   Kokkos::View<int*, Mem> neighbors;  // capacity >= offsets(n); every entry > its owner's index
@@ -27,7 +27,7 @@ struct NeighborList {
   Kokkos::View<int*, Mem> partner_slots;    // slots whose partner is the particle, in increasing order
   // What each slot hands to its partner: the pair force on the owner (the partner gets its negative),
   // the torque on the partner, and whether the pair is an active contact.
-  Kokkos::View<Real* [3], Mem> slot_force, slot_partner_torque;
+  Kokkos::View<ForceReal* [3], Mem> slot_force, slot_partner_torque;
   Kokkos::View<int*, Mem> slot_active;
   int num_slots = 0;
 
@@ -38,7 +38,7 @@ struct NeighborList {
   std::size_t bytes() const {
     return (offsets.span() + neighbors.span() + partner_offsets.span() + partner_slots.span() + slot_active.span() +
             old_offsets.span() + old_neighbors.span()) * sizeof(int) +
-           (history.span() + old_history.span() + slot_force.span() + slot_partner_torque.span()) * sizeof(Real);
+           (history.span() + old_history.span() + slot_force.span() + slot_partner_torque.span()) * sizeof(ForceReal);
   }
 
   // Build from bins whose `order` lists the particles by cell. `old_index(i)` maps a particle's current
@@ -140,7 +140,7 @@ struct NeighborList {
               Real h[H];
               for (int k = 0; k < H; ++k) h[k] = found >= 0 ? o_hist(found, k) : 0;
               if (flipped) Law::flip_history(h);
-              for (int k = 0; k < H; ++k) hist(s, k) = h[k];
+              for (int k = 0; k < H; ++k) hist(s, k) = static_cast<ForceReal>(h[k]);
             }
           }
         });
@@ -203,8 +203,8 @@ struct NeighborList {
     }
     if (static_cast<int>(partner_slots.extent(0)) < capacity) {
       partner_slots = Kokkos::View<int*, Mem>("cgdem::kernels::nl_partner_slots", capacity);
-      slot_force = Kokkos::View<Real* [3], Mem>("cgdem::kernels::slot_force", capacity);
-      slot_partner_torque = Kokkos::View<Real* [3], Mem>("cgdem::kernels::slot_partner_torque", capacity);
+      slot_force = Kokkos::View<ForceReal* [3], Mem>("cgdem::kernels::slot_force", capacity);
+      slot_partner_torque = Kokkos::View<ForceReal* [3], Mem>("cgdem::kernels::slot_partner_torque", capacity);
       slot_active = Kokkos::View<int*, Mem>("cgdem::kernels::slot_active", capacity);
     }
   }

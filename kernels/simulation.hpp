@@ -1,7 +1,8 @@
 #pragma once
 // Simulation<Law, ExecSpace>: the time loop over the SoA store, for one compiled contact law on one
 // Kokkos execution space. Each step (design.md):
-//   kick + drift -> (list rebuild with spatial reorder when a particle moved > skin/2) -> forces -> kick.
+//   kick + drift -> (list rebuild with spatial reorder when a particle moved > skin/2) -> forces, then the
+//   closing kick fused into the force gather (the integrate timer holds kick + drift only).
 #include <Kokkos_Core.hpp>
 #include <algorithm>
 #include <cstdio>
@@ -19,10 +20,10 @@ namespace cgdem::kernels {
 
 template <class Law, class ExecSpace>
 class Simulation final : public Engine {
- public:
+public:
   using Mem = typename ExecSpace::memory_space;
   static constexpr int H = Law::history_size;
-  using HistoryView = Kokkos::View<Real**, Kokkos::LayoutRight, Mem>;
+  using HistoryView = Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>;
 
   Simulation(const EngineConfig& cfg, std::string physics_name, std::string backend_name)
       : cfg_(cfg), physics_(std::move(physics_name)), backend_(std::move(backend_name)),
@@ -30,7 +31,8 @@ class Simulation final : public Engine {
     upload_particles();
     upload_tables();
     Real rmax = 0;
-    for (double r : cfg.particles.radius) rmax = std::max<Real>(rmax, r);
+    for (double r : cfg.particles.radius)
+      rmax = std::max<Real>(rmax, r);
     // The longest interaction range of this law over all material pairs (adhesion, bridges) widens
     // the neighbour cut-off; the force kernel uses it to skip pairs quickly.
     cfg_.reach = 0;
@@ -42,17 +44,19 @@ class Simulation final : public Engine {
     for (int a = 0; a < 3; ++a)
       if (cfg.domain.periodic[a] && grid_.dims[a] < 3) {
         std::ostringstream msg;
-        msg << "periodic axis " << "xyz"[a] << " is " << cfg.domain.length[a]
-            << " m long, less than 3 neighbour cells of " << 2 * rmax + cutoff_extra_
-            << " m: enlarge the domain along it or reduce the skin";
+        msg << "periodic axis "
+            << "xyz"[a] << " is " << cfg.domain.length[a] << " m long, less than 3 neighbour cells of "
+            << 2 * rmax + cutoff_extra_ << " m: enlarge the domain along it or reduce the skin";
         throw std::invalid_argument(msg.str());
       }
     identity_ = Kokkos::View<int*, Mem>("cgdem::kernels::identity", n_);
     old_index_ = Kokkos::View<int*, Mem>("cgdem::kernels::old_index", n_);
     auto id = identity_;
-    Kokkos::parallel_for("cgdem::kernels::iota", Kokkos::RangePolicy<ExecSpace>(0, n_), KOKKOS_LAMBDA(int i) { id(i) = i; });
+    Kokkos::parallel_for(
+        "cgdem::kernels::iota", Kokkos::RangePolicy<ExecSpace>(0, n_), KOKKOS_LAMBDA(int i) { id(i) = i; });
     if (!cfg_.walls.empty())
-      wall_force_record_ = Kokkos::View<Real* [3], Mem>("cgdem::kernels::wall_force_record", std::size_t(n_) * cfg_.walls.size());
+      wall_force_record_ = Kokkos::View<Real* [3], Mem>("cgdem::kernels::wall_force_record",
+                                                        std::size_t(n_) * cfg_.walls.size());
     rebuild(true);
     compute_forces(true);
   }
@@ -63,15 +67,12 @@ class Simulation final : public Engine {
       timer.reset();
       const Real max_d2 = Integrator<ExecSpace>::kick_drift(store_, cfg_.domain, cfg_.gravity, cfg_.dt, n_);
       timers_.integrate += timer.seconds();
-      if (!(max_d2 < Kokkos::Experimental::infinity<Real>::value)) throw BlowUpError(diagnose("a position or velocity became NaN or Inf"));
+      if (!(max_d2 < Kokkos::Experimental::infinity<Real>::value))
+        throw BlowUpError(diagnose("a position or velocity became NaN or Inf"));
       if (4 * max_d2 > cfg_.skin * cfg_.skin) rebuild(false);
       ++step_;
-      time_ = step_ * cfg_.dt;  // not accumulated: a restart reproduces it bitwise
-      compute_forces(s == steps - 1);
-      timer.reset();
-      Integrator<ExecSpace>::kick(store_, cfg_.gravity, cfg_.dt, n_);
-      Kokkos::fence();
-      timers_.integrate += timer.seconds();
+      time_ = step_ * cfg_.dt; // not accumulated: a restart reproduces it bitwise
+      compute_forces(s == steps - 1, /*closing_kick=*/true);
       if (step_ % health_every_ == 0) check_overlaps();
     }
   }
@@ -83,21 +84,24 @@ class Simulation final : public Engine {
     const SystemSums s = system_sums<ExecSpace>(store_, n_);
     o.kinetic_energy = s.kinetic;
     o.rotational_energy = s.rotational;
-    for (int a = 0; a < 3; ++a) o.momentum[a] = s.momentum[a];
+    for (int a = 0; a < 3; ++a)
+      o.momentum[a] = s.momentum[a];
     o.contacts = s.contacts;
     o.max_speed = s.max_speed;
     o.max_overlap_fraction = max_overlap_fraction();
     // Wall forces recorded by the last force evaluation (the last step of advance(), or construction).
     if (!cfg_.walls.empty()) {
       std::vector<int> owner;
-      for (const Wall& w : cfg_.walls) owner.push_back(w.owner);
-      o.wall_force = wall_forces<ExecSpace>(wall_force_record_, owner, static_cast<int>(cfg_.wall_names.size()), n_);
+      for (const Wall& w : cfg_.walls)
+        owner.push_back(w.owner);
+      o.wall_force =
+          wall_forces<ExecSpace>(wall_force_record_, owner, static_cast<int>(cfg_.wall_names.size()), n_);
     }
     return o;
   }
 
   void rebuild_neighbors() override {
-    builds_ = 0;  // the next build reorders whatever reorder_every says
+    builds_ = 0; // the next build reorders whatever reorder_every says
     rebuild(false);
   }
 
@@ -111,16 +115,16 @@ class Simulation final : public Engine {
   StepTimers timers() const override { return timers_; }
   std::size_t bytes() const override {
     return 2 * std::size_t(n_) * ParticleStore<Mem>::bytes_per_particle() + nl_.bytes() +
-           wall_history_.span() * sizeof(Real) * (H > 0 ? 2 : 1);
+           wall_history_.span() * sizeof(ForceReal) * (H > 0 ? 2 : 1);
   }
   std::string physics() const override { return physics_; }
   std::string backend() const override { return backend_; }
 
- private:
+private:
   void upload_particles();
   void upload_tables();
   void rebuild(bool first);
-  void compute_forces(bool record_wall_forces);
+  void compute_forces(bool record_wall_forces, bool closing_kick = false);
   Real max_overlap_fraction();
   void check_overlaps();
   std::string diagnose(const std::string& what);
@@ -132,12 +136,12 @@ class Simulation final : public Engine {
   Kokkos::View<models::PairParameters**, Mem> pair_params_, wall_params_;
   Kokkos::View<Wall*, Mem> walls_;
   HistoryView wall_history_, wall_history_scratch_;
-  Kokkos::View<Real* [3], Mem> wall_force_record_;  // N x wall parts, written on recording steps
+  Kokkos::View<Real* [3], Mem> wall_force_record_; // N x wall parts, written on recording steps
   NeighborList<ExecSpace, Law> nl_;
   CellBins<ExecSpace> bins_;
   CellGrid grid_;
   Kokkos::View<int*, Mem> identity_;
-  Kokkos::View<int*, Mem> old_index_;  // new -> old index of the last reorder (history transfer)
+  Kokkos::View<int*, Mem> old_index_; // new -> old index of the last reorder (history transfer)
   Real cutoff_extra_ = 0;
   long builds_ = 0;
   long step_ = 0;

@@ -62,7 +62,8 @@ void Simulation<Law, ExecSpace>::upload_tables() {
   Kokkos::deep_copy(wall_params_, hw);
   walls_ = Kokkos::View<Wall*, Mem>("cgdem::kernels::walls", cfg_.walls.size());
   auto hwalls = Kokkos::create_mirror_view(walls_);
-  for (std::size_t w = 0; w < cfg_.walls.size(); ++w) hwalls(w) = cfg_.walls[w];
+  for (std::size_t w = 0; w < cfg_.walls.size(); ++w)
+    hwalls(w) = cfg_.walls[w];
   Kokkos::deep_copy(walls_, hwalls);
   wall_history_ = HistoryView("cgdem::kernels::wall_history", n_, cfg_.walls.size() * H);
   wall_history_scratch_ = HistoryView("cgdem::kernels::wall_history_scratch", n_, cfg_.walls.size() * H);
@@ -98,12 +99,16 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
 }
 
 template <class Law, class ExecSpace>
-void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces) {
+void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool closing_kick) {
   Kokkos::Timer timer;
   Kokkos::View<Real* [3], Mem> record;
   if (record_wall_forces) record = wall_force_record_;
-  ContactForces<ExecSpace, Law>::compute(store_, nl_, cfg_.domain, pair_params_, wall_params_, walls_, wall_history_,
-                                         record, time_, cfg_.dt, cfg_.reach, Law{}, n_);
+  ClosingKick kick;
+  kick.enabled = closing_kick;
+  kick.gravity = cfg_.gravity;
+  kick.half_dt = 0.5 * cfg_.dt;
+  ContactForces<ExecSpace, Law>::compute(store_, nl_, cfg_.domain, pair_params_, wall_params_, walls_,
+                                         wall_history_, record, time_, cfg_.dt, cfg_.reach, Law{}, n_, kick);
   Kokkos::fence();
   timers_.forces += timer.seconds();
 }
@@ -163,9 +168,10 @@ void Simulation<Law, ExecSpace>::check_overlaps() {
       Kokkos::Max<Real>(travel));
   if (!(travel <= 0.5)) {
     char what[200];
-    std::snprintf(what, sizeof what,
-                  "a particle moves %.3g of its radius per step (limit 0.5): contacts can no longer be resolved",
-                  travel);
+    std::snprintf(
+        what, sizeof what,
+        "a particle moves %.3g of its radius per step (limit 0.5): contacts can no longer be resolved",
+        travel);
     throw BlowUpError(diagnose(what));
   }
 }
@@ -203,7 +209,7 @@ std::string Simulation<Law, ExecSpace>::diagnose(const std::string& what) {
       const double ov = r(i) + r(j) - norm(cfg_.domain.minimum_image(Vec3{x(j, 0), x(j, 1), x(j, 2)} - xi));
       score = std::max(score, ov / std::min(r(i), r(j)));
     }
-    score = std::max(score, norm(vi) * cfg_.dt / r(i));  // fast particles count as suspects too
+    score = std::max(score, norm(vi) * cfg_.dt / r(i)); // fast particles count as suspects too
     if (score > worst_score) {
       worst_score = score;
       worst = i;
@@ -212,22 +218,24 @@ std::string Simulation<Law, ExecSpace>::diagnose(const std::string& what) {
   std::ostringstream msg;
   msg << "blow-up at step " << step_ << " (t = " << time_ << " s): " << what;
   if (worst >= 0) {
-    msg << "; particle id " << id(worst) << " at (" << x(worst, 0) << ", " << x(worst, 1) << ", " << x(worst, 2)
-        << ") velocity (" << v(worst, 0) << ", " << v(worst, 1) << ", " << v(worst, 2) << "), radius " << r(worst)
-        << "; neighbours (id:overlap/radius)";
+    msg << "; particle id " << id(worst) << " at (" << x(worst, 0) << ", " << x(worst, 1) << ", "
+        << x(worst, 2) << ") velocity (" << v(worst, 0) << ", " << v(worst, 1) << ", " << v(worst, 2)
+        << "), radius " << r(worst) << "; neighbours (id:overlap/radius)";
     int shown = 0;
     for (int s = off[worst]; s < off[worst + 1] && shown < 8; ++s, ++shown) {
       const int j = nb[s];
       const double ov = r(worst) + r(j) -
-                        norm(cfg_.domain.minimum_image(Vec3{x(j, 0), x(j, 1), x(j, 2)} - Vec3{x(worst, 0), x(worst, 1), x(worst, 2)}));
+                        norm(cfg_.domain.minimum_image(Vec3{x(j, 0), x(j, 1), x(j, 2)} -
+                                                       Vec3{x(worst, 0), x(worst, 1), x(worst, 2)}));
       msg << " " << id(j) << ":" << ov / std::min(r(worst), r(j));
     }
   }
   msg << "; likely cause: "
-      << (step_ < 10 ? "overlapping or too close initial particles, or a time step far above the stable limit"
-                     : "the time step (" + std::to_string(cfg_.dt) +
-                           " s) is too large for the contact stiffness and impact speeds: use time.step: auto, "
-                           "a smaller time.fraction, or run 'cgdem check' to see the estimate");
+      << (step_ < 10
+              ? "overlapping or too close initial particles, or a time step far above the stable limit"
+              : "the time step (" + std::to_string(cfg_.dt) +
+                    " s) is too large for the contact stiffness and impact speeds: use time.step: auto, "
+                    "a smaller time.fraction, or run 'cgdem check' to see the estimate");
   msg << ". The last good frame is in the output file.";
   return msg.str();
 }
@@ -275,26 +283,29 @@ template <class V>
 std::vector<double> to_reals(const V& view) {
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
   std::vector<double> out(h.span());
-  for (std::size_t k = 0; k < h.span(); ++k) out[k] = h.data()[k];
+  for (std::size_t k = 0; k < h.span(); ++k)
+    out[k] = h.data()[k];
   return out;
 }
 template <class V>
 std::vector<std::int64_t> to_ints(const V& view) {
   auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), view);
   std::vector<std::int64_t> out(h.span());
-  for (std::size_t k = 0; k < h.span(); ++k) out[k] = h.data()[k];
+  for (std::size_t k = 0; k < h.span(); ++k)
+    out[k] = h.data()[k];
   return out;
 }
 template <class V, class T>
 void from_vector(const V& view, const std::vector<T>& src, const char* name) {
   if (src.size() != view.span())
-    throw std::runtime_error(std::string("checkpoint field '") + name + "' has " + std::to_string(src.size()) +
-                             " values, expected " + std::to_string(view.span()));
+    throw std::runtime_error(std::string("checkpoint field '") + name + "' has " +
+                             std::to_string(src.size()) + " values, expected " + std::to_string(view.span()));
   auto h = Kokkos::create_mirror_view(view);
-  for (std::size_t k = 0; k < src.size(); ++k) h.data()[k] = static_cast<typename V::value_type>(src[k]);
+  for (std::size_t k = 0; k < src.size(); ++k)
+    h.data()[k] = static_cast<typename V::value_type>(src[k]);
   Kokkos::deep_copy(view, h);
 }
-}  // namespace detail
+} // namespace detail
 
 // Everything the trajectory depends on, in the store's current order: particle fields, forces of the
 // last evaluation (the next half kick uses them), the neighbour list with its history, wall history.
@@ -361,7 +372,8 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   detail::from_vector(store_.inertia, need(c.reals, "inertia"), "inertia");
   detail::from_vector(store_.scale_factor, need(c.reals, "scale_factor"), "scale_factor");
   detail::from_vector(wall_history_, need(c.reals, "wall_history"), "wall_history");
-  if (!cfg_.walls.empty()) detail::from_vector(wall_force_record_, need(c.reals, "wall_force_record"), "wall_force_record");
+  if (!cfg_.walls.empty())
+    detail::from_vector(wall_force_record_, need(c.reals, "wall_force_record"), "wall_force_record");
   // The neighbour list exactly as it was: same slots, same order, same history.
   const auto& offs = need(c.ints, "nl_offsets");
   const auto& neigh = need(c.ints, "nl_neighbors");
@@ -372,10 +384,12 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   detail::from_vector(nl_.offsets, offs, "nl_offsets");
   {
     auto h = Kokkos::create_mirror_view(nl_.neighbors);
-    for (int k = 0; k < slots; ++k) h(k) = static_cast<int>(neigh[k]);
+    for (int k = 0; k < slots; ++k)
+      h(k) = static_cast<int>(neigh[k]);
     Kokkos::deep_copy(nl_.neighbors, h);
     auto hh = Kokkos::create_mirror_view(nl_.history);
-    for (std::size_t k = 0; k < hist.size(); ++k) hh.data()[k] = hist[k];
+    for (std::size_t k = 0; k < hist.size(); ++k)
+      hh.data()[k] = hist[k];
     Kokkos::deep_copy(nl_.history, hh);
   }
   nl_.build_partners(n_);
