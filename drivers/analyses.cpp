@@ -391,6 +391,7 @@ public:
       p.fail("average_from", "average_from must be >= 0",
              "give the time (s) after the first avalanche, e.g. 1.0");
   }
+  std::string metric() const override { return average_from_ < 0 ? name() : name() + "_mean"; }
   void evaluate(const AnalysisInput& in, std::map<std::string, double>& out) override {
     if (in.frame.size() == 0) return;
     const double cell = cell_ > 0 ? cell_ : 4 * max_radius(in.frame);

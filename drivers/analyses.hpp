@@ -45,6 +45,9 @@ public:
   // Distribution analyses: the samples whose distribution they describe (speeds); others: empty.
   virtual std::vector<double> samples(const FrameData&) const { return {}; }
   virtual bool is_distribution() const { return false; }
+  // The output a sweep compares against the reference and plots: the main value unless the analysis'
+  // parameters make another one the meaningful figure (a drum's mean angle over the flowing regime).
+  virtual std::string metric() const { return name_; }
 
 private:
   std::string name_, type_;

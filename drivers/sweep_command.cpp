@@ -783,7 +783,7 @@ int sweep_command(const std::vector<std::string>& args) {
   write_h5((s.dir / "sweep.h5").string(), table, o, policy);
   std::string mains;
   for (const auto& a : s.analyses)
-    mains += (mains.empty() ? "" : ",") + a->name();
+    mains += (mains.empty() ? "" : ",") + (a->is_distribution() ? a->name() : a->metric());
   if (o.plots) {
     const std::string cmd = "/usr/bin/python3 '" CGDEM_SOURCE_DIR "/sweeps/plot_sweep.py' '" + csv + "' '" +
                             s.dir.string() + "' --metrics '" + mains + "'";
@@ -798,12 +798,12 @@ int sweep_command(const std::vector<std::string>& args) {
       std::fprintf(stderr, "  %-24s speed-up %7.2f (CPU time %7.2f)", r.record.run.c_str(), r.speedup,
                    r.speedup_cpu);
       for (const auto& a : s.analyses) {
-        auto e = r.error.find(a->name());
+        auto e = r.error.find(a->metric());
         auto ks = r.ks.find(a->name());
         if (ks != r.ks.end())
           std::fprintf(stderr, "  %s KS %.3f", a->name().c_str(), ks->second);
         else if (e != r.error.end())
-          std::fprintf(stderr, "  %s err %.3f", a->name().c_str(), e->second);
+          std::fprintf(stderr, "  %s err %.3f", a->metric().c_str(), e->second);
       }
       std::fprintf(stderr, "  %s\n", r.record.status.c_str());
     }

@@ -185,6 +185,8 @@ analyses: [{type: drum_angle, name: a, drum: drum, cell_width: 0.0012, average_f
   EXPECT_NEAR(a20, 20, 1.0);
   EXPECT_NEAR(a30, 30, 1.0);
   EXPECT_DOUBLE_EQ(out.at("a_mean"), 0.5 * (a20 + a30));
+  // A sweep compares and plots the mean, not the angle of whichever frame the run ends on.
+  EXPECT_EQ(list[0]->metric(), "a_mean");
 }
 
 TEST(Analyses, LatticePorosityAndCoordination) {
