@@ -48,16 +48,17 @@ struct Wall {
 struct WallContact {
   Real overlap = -1;      // > 0 in contact
   Vec3 normal;            // unit, from the particle toward the wall
-  Vec3 surface_velocity;  // velocity of the wall surface at the contact point
+  Vec3 arm;               // from the wall's axis to the contact point (for the surface velocity)
   bool reachable = false; // the particle is within the wall's extent (otherwise no interaction)
 };
 
+// Geometry only: every particle is tested against every wall each step, and most are far from it, so
+// the surface velocity (the motion segments summed again) is left to wall_surface_velocity, called for
+// the particles within reach.
 KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec3& x, Real radius) {
   WallContact c;
   const Vec3 base = w.point + w.offset(t);
   const Vec3 rel = x - base;
-  const Vec3 translation = w.translation_velocity(t);
-  const Real spin = w.moving(t) ? w.angular_velocity : 0;
   if (w.type == Wall::Plane) {
     const Real dist = dot(rel, w.axis);
     if (w.radius > 0) {
@@ -67,7 +68,7 @@ KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec
     c.reachable = true;
     c.overlap = radius - dist;
     c.normal = -w.axis;
-    c.surface_velocity = translation + spin * cross(w.axis, rel - dist * w.axis);
+    c.arm = rel - dist * w.axis;
     return c;
   }
   // Inner side of a cylinder.
@@ -79,8 +80,14 @@ KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec
   c.reachable = true;
   c.normal = (1.0 / r) * radial;
   c.overlap = radius - (w.radius - r);
-  c.surface_velocity = translation + spin * cross(w.axis, axial * w.axis + w.radius * c.normal);
+  c.arm = axial * w.axis + w.radius * c.normal;
   return c;
+}
+
+// Velocity of the wall's surface at the contact point of `c` (translation plus rotation about the axis).
+KOKKOS_INLINE_FUNCTION Vec3 wall_surface_velocity(const Wall& w, Real t, const WallContact& c) {
+  const Real spin = w.moving(t) ? w.angular_velocity : 0;
+  return w.translation_velocity(t) + spin * cross(w.axis, c.arm);
 }
 
 } // namespace cgdem

@@ -124,22 +124,24 @@ struct ContactForces {
           }
 
           for (int w = 0; w < nwalls; ++w) {
-            const Wall wall = walls(w);
+            const Wall& wall = walls(w); // a reference: the struct with its motion segments is ~50 words
             const WallContact wc = wall_contact(wall, time, xi, ri);
             Vec3 fw;
             if (!wc.reachable || wc.overlap <= -reach) {
+              // Most particles are far from most walls and their history is already zero: read first.
               if constexpr (H > 0)
                 for (int k = 0; k < H; ++k)
-                  wall_history(i, w * H + k) = 0;
+                  if (wall_history(i, w * H + k) != 0) wall_history(i, w * H + k) = 0;
             } else {
+              const Vec3 surface_velocity = wall_surface_velocity(wall, time, wc);
               models::PairState st;
               st.normal = wc.normal;
               st.overlap = wc.overlap;
               const models::PairParameters& pp = wall_params(mat_i, wall.material);
               st.lever_share = pp.lever_share;
               const Vec3 vci = vi + cross(wi, models::lever_arm(ri, st) * wc.normal);
-              const Vec3 vrel = vci - wc.surface_velocity;
-              st.overlap_rate = dot(vi - wc.surface_velocity, wc.normal);
+              const Vec3 vrel = vci - surface_velocity;
+              st.overlap_rate = dot(vi - surface_velocity, wc.normal);
               st.tangential_velocity = vrel - dot(vrel, wc.normal) * wc.normal;
               st.relative_rotation = wi;
               st.omega_i = wi;
