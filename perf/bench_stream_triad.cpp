@@ -31,7 +31,7 @@ void BM_Triad(benchmark::State& state) {
   }
   benchmark::DoNotOptimize(a.data());
   const double bytes = 3.0 * sizeof(double) * double(n);
-  state.counters["GB_per_s"] =
+  state.counters["GB"] =
       benchmark::Counter(bytes * 1e-9 * double(state.iterations()), benchmark::Counter::kIsRate);
   state.SetLabel("openmp x" + std::to_string(Space::concurrency()));
 }

@@ -2,6 +2,8 @@
 """Particle files for the peer comparison of the settled beds (perf/peers/bed).
 
   beds.py tile  IN.csv OUT.csv NX NY   copy a bed NX x NY times in x and y (shift by the box extent)
+  beds.py bottom IN.csv OUT.csv N      keep the N lowest particles (a settled floor layer over the whole
+                                       periodic cross-section, so it stays periodic and at rest), ids 1..N
   beds.py data  IN.csv OUT.data        LAMMPS/LIGGGHTS data file (atom_style sphere/granular)
   beds.py box   IN.csv                 print "xlo xhi ylo yhi zlo zhi" of the bed
   beds.py pair  OUT.data V             two 1 mm spheres, head-on at relative speed V (the impact check)
@@ -68,6 +70,18 @@ def tile(src, dst, nx, ny):
                 k += 1
 
 
+def bottom(src, dst, n):
+    box, rows = read_bed(src)
+    if n > len(rows):
+        sys.exit(f"{src} holds {len(rows)} particles, fewer than {n}")
+    rows = sorted(rows, key=lambda r: (r["z"], r["id"]))[:n]
+    with open(dst, "w") as f:
+        f.write(f"# the {n} lowest particles of {src}; {box_comment(box)}\n")
+        f.write("id,x,y,z,radius,density\n")
+        for i, r in enumerate(rows):
+            f.write(f"{i + 1},{r['x']!r},{r['y']!r},{r['z']!r},{r['radius']!r},{r['density']!r}\n")
+
+
 def write_data(dst, box, atoms, velocities=None, title="cgdem peer comparison"):
     with open(dst, "w") as f:
         f.write(f"{title}\n\n{len(atoms)} atoms\n1 atom types\n\n")
@@ -87,6 +101,8 @@ def main(argv):
     cmd = argv[1]
     if cmd == "tile" and len(argv) == 6:
         tile(argv[2], argv[3], int(argv[4]), int(argv[5]))
+    elif cmd == "bottom" and len(argv) == 5:
+        bottom(argv[2], argv[3], int(argv[4]))
     elif cmd == "data" and len(argv) == 4:
         box, rows = read_bed(argv[2])
         write_data(argv[3], box, rows, title=f"settled bed from {argv[2]}")

@@ -1,7 +1,7 @@
 #!/bin/bash
 # Side-by-side timing of cgdem, LIGGGHTS and LAMMPS on the shared settled beds (perf/peers/README.md).
 #
-#   compare.sh [--n 10k|50k|200k|all] [--runs R] [--steps S] [--codes "cgdem liggghts lammps"] [--out DIR]
+#   compare.sh [--n 2k|10k|50k|200k|all] [--runs R] [--steps S] [--codes "cgdem liggghts lammps"] [--out DIR]
 #
 # For each bed size: cgdem with 1 and 2 threads, LIGGGHTS and LAMMPS with mpirun -np 1 and -np 2, run
 # alternately (R rounds of all six, default 3), S steps each (default 2000, dt 1e-5 s). Setup is excluded:
@@ -40,9 +40,9 @@ while [ $# -gt 0 ]; do
     *) echo "compare.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
-[ "$SIZES" = all ] && SIZES="10k 50k 200k"
+[ "$SIZES" = all ] && SIZES="2k 10k 50k 200k"
 for n in $SIZES; do
-  case $n in 10k|50k|200k) ;; *) echo "compare.sh: --n must be 10k, 50k, 200k or all (got $n)" >&2; exit 2 ;; esac
+  case $n in 2k|10k|50k|200k) ;; *) echo "compare.sh: --n must be 2k, 10k, 50k, 200k or all (got $n)" >&2; exit 2 ;; esac
 done
 MPI_FLAGS="${MPIRUN_FLAGS:---oversubscribe}"
 [ "$(id -u)" = 0 ] && MPI_FLAGS="$MPI_FLAGS --allow-run-as-root"
@@ -62,6 +62,8 @@ printf 'n\tcode\tpar\trun\tparticles\tpss\tmaxrss_kb\tcontacts\n' > "$ROWS"
 prepare() {
   local n=$1 csv
   case $n in
+    2k) csv=$HERE/work/settled_bed_2k.csv   # the small-N case: the 10k bed's 2000 lowest particles
+        [ -s "$csv" ] || $PY "$HERE/beds.py" bottom /work/shared/data/settled_bed_10k.csv "$csv" 2000 ;;
     10k) csv=/work/shared/data/settled_bed_10k.csv ;;
     50k) csv=/work/shared/data/settled_bed_50k.csv ;;
     200k) csv=$HERE/work/settled_bed_200k.csv
@@ -135,7 +137,7 @@ unit = {"cgdem": "threads", "liggghts": "ranks", "lammps": "ranks"}
 med = {}
 print()
 print(f"{'N':>5} {'code':<9} {'par':>10} {'median p-steps/s':>17} {'min - max':>21} {'B/particle':>11} {'contacts/particle':>18}")
-for key in sorted(by, key=lambda k: (["10k", "50k", "200k"].index(k[0]), ["cgdem", "liggghts", "lammps"].index(k[1]), k[2])):
+for key in sorted(by, key=lambda k: (["2k", "10k", "50k", "200k"].index(k[0]), ["cgdem", "liggghts", "lammps"].index(k[1]), k[2])):
     rs = by[key]
     pss = [float(r["pss"]) for r in rs]
     npart = int(rs[0]["particles"])
@@ -146,7 +148,7 @@ for key in sorted(by, key=lambda k: (["10k", "50k", "200k"].index(k[0]), ["cgdem
     print(f"{key[0]:>5} {key[1]:<9} {str(key[2]) + ' ' + unit[key[1]]:>10} {med[key]:>17.4g} "
           f"{min(pss):>10.4g} - {max(pss):<8.4g} {rss:>11.0f} {c:>18}")
 print()
-for n in ["10k", "50k", "200k"]:
+for n in ["2k", "10k", "50k", "200k"]:
     for peer in ["liggghts", "lammps"]:
         parts = []
         for p in (1, 2):
