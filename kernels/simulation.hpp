@@ -27,7 +27,7 @@ public:
 
   Simulation(const EngineConfig& cfg, std::string physics_name, std::string backend_name)
       : cfg_(cfg), physics_(std::move(physics_name)), backend_(std::move(backend_name)),
-        n_(static_cast<int>(cfg.particles.size())), store_(n_), scratch_(n_) {
+        n_(static_cast<int>(cfg.particles.size())), store_(n_) {
     upload_particles();
     upload_tables();
     Real rmax = 0;
@@ -114,8 +114,8 @@ public:
   int size() const override { return n_; }
   StepTimers timers() const override { return timers_; }
   std::size_t bytes() const override {
-    return 2 * std::size_t(n_) * ParticleStore<Mem>::bytes_per_particle() + nl_.bytes() +
-           wall_history_.span() * sizeof(ForceReal) * (H > 0 ? 2 : 1);
+    return std::size_t(n_) * ParticleStore<Mem>::bytes_per_particle() + nl_.bytes() +
+           wall_history_.span() * sizeof(ForceReal) + reorder_scratch_.span() * sizeof(double);
   }
   std::string physics() const override { return physics_; }
   std::string backend() const override { return backend_; }
@@ -132,10 +132,11 @@ private:
   EngineConfig cfg_;
   std::string physics_, backend_;
   int n_;
-  ParticleStore<Mem> store_, scratch_;
+  ParticleStore<Mem> store_;
   Kokkos::View<models::PairParameters**, Mem> pair_params_, wall_params_;
   Kokkos::View<Wall*, Mem> walls_;
-  HistoryView wall_history_, wall_history_scratch_;
+  HistoryView wall_history_;
+  Kokkos::View<double*, Mem> reorder_scratch_; // one field at a time during a reorder (kernels/reorder.hpp)
   Kokkos::View<Real* [3], Mem> wall_force_record_; // N x wall parts, written on recording steps
   NeighborList<ExecSpace, Law> nl_;
   CellBins<ExecSpace> bins_;

@@ -66,7 +66,10 @@ void Simulation<Law, ExecSpace>::upload_tables() {
     hwalls(w) = cfg_.walls[w];
   Kokkos::deep_copy(walls_, hwalls);
   wall_history_ = HistoryView("cgdem::kernels::wall_history", n_, cfg_.walls.size() * H);
-  wall_history_scratch_ = HistoryView("cgdem::kernels::wall_history_scratch", n_, cfg_.walls.size() * H);
+  const std::size_t scratch_bytes = reorder_scratch_bytes(cfg_.walls.size() * H * sizeof(ForceReal));
+  reorder_scratch_ =
+      Kokkos::View<double*, Mem>("cgdem::kernels::reorder_scratch",
+                                 std::size_t(n_) * ((scratch_bytes + sizeof(double) - 1) / sizeof(double)));
 }
 
 template <class Law, class ExecSpace>
@@ -81,10 +84,8 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
     old_index = Kokkos::subview(bins_.order, std::make_pair(0, n_));
     Kokkos::deep_copy(ExecSpace(), old_index_, old_index);
     old_index = old_index_;
-    permute_store<ExecSpace>(store_, scratch_, old_index, n_);
-    permute_rows<ExecSpace>(wall_history_, wall_history_scratch_, old_index, n_);
-    std::swap(store_, scratch_);
-    std::swap(wall_history_, wall_history_scratch_);
+    Reorder<ExecSpace>::permute_store(store_, reorder_scratch_, old_index, n_);
+    Reorder<ExecSpace>::permute(wall_history_, reorder_scratch_, old_index, n_);
     bins_.build(grid_, store_.position, n_);
   }
   Kokkos::fence();
