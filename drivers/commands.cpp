@@ -184,7 +184,11 @@ int run_command(const std::vector<std::string>& args) {
   try {
     p = prepare(o);
     analyses = make_analyses(p.scene);
+    // Host copies of the particles cost ~100 B per particle each: the scene's set is in p.config by now,
+    // and p.config's is on the device once the engine exists.
+    p.particles = ParticleSet{};
     engine = make_engine(p.config, backend);
+    p.config.particles = ParticleSet{};
     if (!o.restart.empty()) restart = read_checkpoint(o.restart);
   } catch (const SceneError& e) {
     std::cerr << "cgdem: " << e.what() << "\n";

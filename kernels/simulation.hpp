@@ -29,6 +29,7 @@ public:
       : cfg_(cfg), physics_(std::move(physics_name)), backend_(std::move(backend_name)),
         n_(static_cast<int>(cfg.particles.size())), store_(n_) {
     upload_particles();
+    cfg_.particles = ParticleSet{}; // on the device now; the host copy would only cost ~100 B per particle
     upload_tables();
     Real rmax = 0;
     for (double r : cfg.particles.radius)
