@@ -7,7 +7,9 @@
 //
 // Per-slot contact history (compile-time size) survives rebuilds and spatial reorders; when a reorder
 // changes which particle owns a pair, the history is flipped to the new owner's point of view
-// (Law::flip_history: tangential displacements change sign, bond flags do not).
+// (Law::flip_history: tangential displacements change sign, bond flags do not). Across a rebuild only the
+// slots whose history is not zero are carried (a compact CSR of partner and history, about the active
+// contacts), not the whole previous list: that would double the list's memory for the step of a rebuild.
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
 #include "kernels/cell_grid.hpp"
@@ -20,25 +22,28 @@ struct NeighborList {
   static constexpr int H = Law::history_size;
   using HistoryView = Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>;
 
-  Kokkos::View<int*, Mem> offsets;    // n + 1
-  Kokkos::View<int*, Mem> neighbors;  // capacity >= offsets(n); every entry > its owner's index
-  HistoryView history;                // capacity x H (no columns, no storage, when the law keeps none)
-  Kokkos::View<int*, Mem> partner_offsets;  // n + 1: transposed CSR
-  Kokkos::View<int*, Mem> partner_slots;    // slots whose partner is the particle, in increasing order
+  Kokkos::View<int*, Mem> offsets;         // n + 1
+  Kokkos::View<int*, Mem> neighbors;       // capacity >= offsets(n); every entry > its owner's index
+  HistoryView history;                     // capacity x H (no columns, no storage, when the law keeps none)
+  Kokkos::View<int*, Mem> partner_offsets; // n + 1: transposed CSR
+  Kokkos::View<int*, Mem> partner_slots;   // slots whose partner is the particle, in increasing order
   // What each slot hands to its partner: the pair force on the owner (the partner gets its negative),
   // the torque on the partner, and whether the pair is an active contact.
-  Kokkos::View<ForceReal* [3], Mem> slot_force, slot_partner_torque;
+  Kokkos::View<ForceReal*[3], Mem> slot_force, slot_partner_torque;
   Kokkos::View<int*, Mem> slot_active;
   int num_slots = 0;
 
-  // Previous list, kept for the history transfer at the next build (swapped, not reallocated).
-  Kokkos::View<int*, Mem> old_offsets, old_neighbors;
-  HistoryView old_history;
+  // The history to carry into the next build: per particle (by its index at the last build), the
+  // partners whose slot history is not zero, and that history. Grows only.
+  Kokkos::View<int*, Mem> carry_offsets, carry_partner;
+  HistoryView carry_history;
 
   std::size_t bytes() const {
-    return (offsets.span() + neighbors.span() + partner_offsets.span() + partner_slots.span() + slot_active.span() +
-            old_offsets.span() + old_neighbors.span()) * sizeof(int) +
-           (history.span() + old_history.span() + slot_force.span() + slot_partner_torque.span()) * sizeof(ForceReal);
+    return (offsets.span() + neighbors.span() + partner_offsets.span() + partner_slots.span() +
+            slot_active.span() + carry_offsets.span() + carry_partner.span()) *
+               sizeof(int) +
+           (history.span() + carry_history.span() + slot_force.span() + slot_partner_torque.span()) *
+               sizeof(ForceReal);
   }
 
   // Build from bins whose `order` lists the particles by cell. `old_index(i)` maps a particle's current
@@ -47,9 +52,8 @@ struct NeighborList {
   void build(const Domain& domain, const CellGrid& grid, const CellBins<ExecSpace>& bins,
              const PositionView& position, const RadiusView& radius, Real extra_cutoff, int n,
              const OldIndexView& old_index, bool have_old) {
-    std::swap(old_offsets, offsets);
-    std::swap(old_neighbors, neighbors);
-    std::swap(old_history, history);
+    if constexpr (H > 0)
+      if (have_old) carry_nonzero_history(n);
     if (static_cast<int>(offsets.extent(0)) != n + 1)
       offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_offsets", n + 1);
 
@@ -64,7 +68,8 @@ struct NeighborList {
       const Vec3 xi{position(i, 0), position(i, 1), position(i, 2)};
       const Real ri = radius(i);
       const int c = cell_of(i);
-      const int cx = c % grid.dims[0], cy = (c / grid.dims[0]) % grid.dims[1], cz = c / (grid.dims[0] * grid.dims[1]);
+      const int cx = c % grid.dims[0], cy = (c / grid.dims[0]) % grid.dims[1],
+                cz = c / (grid.dims[0] * grid.dims[1]);
       for (int dz = -1; dz <= 1; ++dz) {
         int z = cz + dz;
         if (z < 0 || z >= grid.dims[2]) {
@@ -115,16 +120,16 @@ struct NeighborList {
     if (static_cast<int>(neighbors.extent(0)) < total) reserve(static_cast<int>(total * 1.2) + 64);
     const auto neigh = neighbors;
     const auto hist = history;
-    const auto o_offs = old_offsets;
-    const auto o_neigh = old_neighbors;
-    const auto o_hist = old_history;
+    const auto c_offs = carry_offsets;
+    const auto c_partner = carry_partner;
+    const auto c_hist = carry_history;
     Kokkos::parallel_for(
         "cgdem::kernels::nl_fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           int slot = offs(i);
           visit(i, [&](int j) { neigh(slot++) = j; });
           if constexpr (H > 0) {
             // Carry each pair's history over from the previous list, where the pair was kept under the
-            // particle whose OLD index was lower; a new pair starts at zero.
+            // particle whose OLD index was lower; a new pair (or one whose history was zero) starts at zero.
             const int oi = old_index(i);
             for (int s = offs(i); s < offs(i + 1); ++s) {
               const int oj = old_index(neigh(s));
@@ -132,19 +137,70 @@ struct NeighborList {
               const int owner = flipped ? oj : oi, partner = flipped ? oi : oj;
               int found = -1;
               if (have_old)
-                for (int t = o_offs(owner); t < o_offs(owner + 1); ++t)
-                  if (o_neigh(t) == partner) {
+                for (int t = c_offs(owner); t < c_offs(owner + 1); ++t)
+                  if (c_partner(t) == partner) {
                     found = t;
                     break;
                   }
               Real h[H];
-              for (int k = 0; k < H; ++k) h[k] = found >= 0 ? o_hist(found, k) : 0;
+              for (int k = 0; k < H; ++k)
+                h[k] = found >= 0 ? c_hist(found, k) : 0;
               if (flipped) Law::flip_history(h);
-              for (int k = 0; k < H; ++k) hist(s, k) = static_cast<ForceReal>(h[k]);
+              for (int k = 0; k < H; ++k)
+                hist(s, k) = static_cast<ForceReal>(h[k]);
             }
           }
         });
     build_partners(n);
+  }
+
+  // Copy the slots of the current list whose history is not zero into the carry CSR, in slot order.
+  void carry_nonzero_history(int n) {
+    if (static_cast<int>(carry_offsets.extent(0)) != n + 1)
+      carry_offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_carry_offsets", n + 1);
+    const auto offs = offsets;
+    const auto neigh = neighbors;
+    const auto hist = history;
+    const auto c_offs = carry_offsets;
+    auto nonzero = [=] KOKKOS_FUNCTION(int s) {
+      for (int k = 0; k < H; ++k)
+        if (hist(s, k) != 0) return true;
+      return false;
+    };
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_carry_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          int cnt = 0;
+          for (int s = offs(i); s < offs(i + 1); ++s)
+            cnt += nonzero(s) ? 1 : 0;
+          c_offs(i + 1) = cnt;
+        });
+    int total = 0;
+    Kokkos::parallel_scan(
+        "cgdem::kernels::nl_carry_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+        KOKKOS_LAMBDA(int i, int& partial, bool final) {
+          partial += i == 0 ? 0 : c_offs(i);
+          if (final) c_offs(i) = partial;
+        },
+        total);
+    if (static_cast<int>(carry_partner.extent(0)) < total) {
+      const int capacity = static_cast<int>(total * 1.2) + 64;
+      carry_partner = Kokkos::View<int*, Mem>("cgdem::kernels::nl_carry_partner", capacity);
+      carry_history = HistoryView("cgdem::kernels::nl_carry_history", capacity, H);
+    }
+    const auto c_partner = carry_partner;
+    const auto c_hist = carry_history;
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_carry_fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          int c = c_offs(i);
+          for (int s = offs(i); s < offs(i + 1); ++s) {
+            if (!nonzero(s)) continue;
+            c_partner(c) = neigh(s);
+            for (int k = 0; k < H; ++k)
+              c_hist(c, k) = hist(s, k);
+            ++c;
+          }
+        });
+    Kokkos::fence();
   }
 
   // The transposed CSR, a pure function of (offsets, neighbors): also rebuilt after a restart.
@@ -159,7 +215,8 @@ struct NeighborList {
     Kokkos::deep_copy(ExecSpace(), p_offs, 0);
     Kokkos::parallel_for(
         "cgdem::kernels::nl_partner_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          for (int s = offs(i); s < offs(i + 1); ++s) Kokkos::atomic_increment(&p_offs(neigh(s) + 1));
+          for (int s = offs(i); s < offs(i + 1); ++s)
+            Kokkos::atomic_increment(&p_offs(neigh(s) + 1));
         });
     Kokkos::parallel_scan(
         "cgdem::kernels::nl_partner_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
@@ -204,7 +261,8 @@ struct NeighborList {
     if (static_cast<int>(partner_slots.extent(0)) < capacity) {
       partner_slots = Kokkos::View<int*, Mem>("cgdem::kernels::nl_partner_slots", capacity);
       slot_force = Kokkos::View<ForceReal* [3], Mem>("cgdem::kernels::slot_force", capacity);
-      slot_partner_torque = Kokkos::View<ForceReal* [3], Mem>("cgdem::kernels::slot_partner_torque", capacity);
+      slot_partner_torque =
+          Kokkos::View<ForceReal* [3], Mem>("cgdem::kernels::slot_partner_torque", capacity);
       slot_active = Kokkos::View<int*, Mem>("cgdem::kernels::slot_active", capacity);
     }
   }
