@@ -17,8 +17,10 @@ struct ParticleStore {
   View<Real* [3]> position;
   View<Real* [3]> velocity;
   View<Real* [3]> angular_velocity;
-  View<ForceReal* [3]> force; // ForceReal: the precision knob (core/types.hpp)
-  View<ForceReal* [3]> torque;
+  // Totals stay double under the precision knob too: the per-pair shares are rounded antisymmetrically,
+  // a rounded total would not conserve momentum.
+  View<Real* [3]> force;
+  View<Real* [3]> torque;
   View<Real* [3]> position_at_build; // where each particle was at the last neighbour-list build
   View<Real*> radius;
   View<Real*> mass;
@@ -38,8 +40,8 @@ struct ParticleStore {
     position = View<Real* [3]>("cgdem::core::position", n);
     velocity = View<Real* [3]>("cgdem::core::velocity", n);
     angular_velocity = View<Real* [3]>("cgdem::core::angular_velocity", n);
-    force = View<ForceReal* [3]>("cgdem::core::force", n);
-    torque = View<ForceReal* [3]>("cgdem::core::torque", n);
+    force = View<Real* [3]>("cgdem::core::force", n);
+    torque = View<Real* [3]>("cgdem::core::torque", n);
     position_at_build = View<Real* [3]>("cgdem::core::position_at_build", n);
     radius = View<Real*>("cgdem::core::radius", n);
     mass = View<Real*>("cgdem::core::mass", n);
@@ -53,8 +55,7 @@ struct ParticleStore {
 
   // Bytes per particle held by the store (for the memory estimate and benchmarks).
   static constexpr std::size_t bytes_per_particle() {
-    return sizeof(std::int64_t) + 5 * 3 * sizeof(Real) + 2 * 3 * sizeof(ForceReal) + 4 * sizeof(Real) +
-           5 * sizeof(int);
+    return sizeof(std::int64_t) + 7 * 3 * sizeof(Real) + 4 * sizeof(Real) + 5 * sizeof(int);
   }
 };
 
@@ -62,6 +63,11 @@ template <class View>
 KOKKOS_INLINE_FUNCTION Vec3 load3(const View& v, int i) {
   return Vec3{v(i, 0), v(i, 1), v(i, 2)};
 }
+// A vector as a ForceReal view stores it (rounded to float under CGDEM_FLOAT_FORCES, else unchanged).
+KOKKOS_INLINE_FUNCTION Vec3 as_stored(const Vec3& a) {
+  return Vec3{Real(ForceReal(a.x)), Real(ForceReal(a.y)), Real(ForceReal(a.z))};
+}
+
 template <class View>
 KOKKOS_INLINE_FUNCTION void store3(const View& v, int i, const Vec3& a) {
   using T = typename View::value_type; // rounds to ForceReal where the view stores it

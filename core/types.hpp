@@ -7,10 +7,11 @@ namespace cgdem {
 
 using Real = double;
 
-// Storage precision of forces, torques and contact history (the precision knob, CMake option
-// CGDEM_FLOAT_FORCES): every computation stays in double and positions and velocities stay double
-// (a micron-sized overlap at a millimetre coordinate needs double's 16 digits); only what is stored
-// between the force evaluation and its use is rounded, which halves those arrays' memory traffic.
+// Storage precision of the per-pair force and torque shares and of the contact history (the precision
+// knob, CMake option CGDEM_FLOAT_FORCES): every computation stays in double, and positions, velocities
+// and each particle's total force stay double (a micron-sized overlap at a millimetre coordinate needs
+// double's 16 digits; a rounded total would break momentum conservation); only the per-slot arrays,
+// five or so per particle, are rounded, which halves their memory traffic.
 #ifdef CGDEM_FLOAT_FORCES
 using ForceReal = float;
 #else

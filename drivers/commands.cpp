@@ -401,8 +401,9 @@ int info_command(const std::vector<std::string>& args) {
     std::printf("  %s\n", c.c_str());
   std::printf("force accumulation: half neighbour list, partners' shares gathered in slot order "
               "(deterministic on every backend)\n");
-  std::printf("precision: positions and velocities double; forces, torques, contact history %s\n",
-              sizeof(ForceReal) == sizeof(float) ? "float (CGDEM_FLOAT_FORCES)" : "double");
+  std::printf(
+      "precision: positions, velocities, total forces double; per-pair force shares and contact history %s\n",
+      sizeof(ForceReal) == sizeof(float) ? "float (CGDEM_FLOAT_FORCES)" : "double");
   return 0;
 }
 

@@ -110,7 +110,10 @@ struct ContactForces {
             if constexpr (H > 0)
               for (int k = 0; k < H; ++k)
                 history(s, k) = static_cast<ForceReal>(h[k]);
-            f += cf.force;
+            // i feels the force as j will read it from the slot (rounded to ForceReal: the identity in
+            // double), so each pair exerts exactly +F and -F in either precision.
+            const Vec3 fij = as_stored(cf.force);
+            f += fij;
             t += cf.torque;
             contacts += cf.active ? 1 : 0;
             // What j feels, picked up by j in pass 2. A pair that exerts nothing (a listed, non-touching
@@ -118,7 +121,7 @@ struct ContactForces {
             const bool exerts = cf.active || norm2(cf.force) > 0;
             slot_active(s) = exerts ? (cf.active ? 2 : 1) : 0;
             if (exerts) {
-              store3(slot_force, s, -cf.force);
+              store3(slot_force, s, -fij);
               store3(slot_torque, s, cf.torque_j);
             }
           }
