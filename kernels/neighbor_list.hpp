@@ -107,15 +107,7 @@ struct NeighborList {
           visit(i, [&](int) { ++cnt; });
           offs(i + 1) = cnt;
         });
-    int total = 0;
-    Kokkos::parallel_scan(
-        "cgdem::kernels::nl_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
-        KOKKOS_LAMBDA(int i, int& partial, bool final) {
-          const int cnt = i == 0 ? 0 : offs(i);
-          partial += cnt;
-          if (final) offs(i) = partial;
-        },
-        total);
+    const int total = counts_to_offsets(offs, n, "cgdem::kernels::nl_scan");
     num_slots = total;
     if (static_cast<int>(neighbors.extent(0)) < total) reserve(static_cast<int>(total * 1.2) + 64);
     const auto neigh = neighbors;
@@ -154,6 +146,20 @@ struct NeighborList {
     build_partners(n);
   }
 
+  // CSR offsets in place: counts(i + 1) holds the count of row i (counts(0) is ignored); afterwards
+  // counts(i) is where row i starts. Returns the total.
+  static int counts_to_offsets(const Kokkos::View<int*, Mem>& counts, int n, const char* label) {
+    int total = 0;
+    Kokkos::parallel_scan(
+        label, Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+        KOKKOS_LAMBDA(int i, int& partial, bool final) {
+          partial += i == 0 ? 0 : counts(i);
+          if (final) counts(i) = partial;
+        },
+        total);
+    return total;
+  }
+
   // Copy the slots of the current list whose history is not zero into the carry CSR, in slot order.
   void carry_nonzero_history(int n) {
     if (static_cast<int>(carry_offsets.extent(0)) != n + 1)
@@ -174,14 +180,7 @@ struct NeighborList {
             cnt += nonzero(s) ? 1 : 0;
           c_offs(i + 1) = cnt;
         });
-    int total = 0;
-    Kokkos::parallel_scan(
-        "cgdem::kernels::nl_carry_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
-        KOKKOS_LAMBDA(int i, int& partial, bool final) {
-          partial += i == 0 ? 0 : c_offs(i);
-          if (final) c_offs(i) = partial;
-        },
-        total);
+    const int total = counts_to_offsets(c_offs, n, "cgdem::kernels::nl_carry_scan");
     if (static_cast<int>(carry_partner.extent(0)) < total) {
       const int capacity = static_cast<int>(total * 1.2) + 64;
       carry_partner = Kokkos::View<int*, Mem>("cgdem::kernels::nl_carry_partner", capacity);
@@ -218,12 +217,7 @@ struct NeighborList {
           for (int s = offs(i); s < offs(i + 1); ++s)
             Kokkos::atomic_increment(&p_offs(neigh(s) + 1));
         });
-    Kokkos::parallel_scan(
-        "cgdem::kernels::nl_partner_scan", Kokkos::RangePolicy<ExecSpace>(0, n + 1),
-        KOKKOS_LAMBDA(int i, int& partial, bool final) {
-          partial += p_offs(i);
-          if (final) p_offs(i) = partial;
-        });
+    counts_to_offsets(p_offs, n, "cgdem::kernels::nl_partner_scan");
     // Fill with a per-particle cursor (atomics: any order), then sort each particle's few slots so the
     // gather order is fixed.
     Kokkos::View<int*, Mem> cursor(Kokkos::view_alloc(ExecSpace(), "cgdem::kernels::nl_partner_cursor"), n);
