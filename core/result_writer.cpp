@@ -385,6 +385,9 @@ std::string frame_name(std::int64_t index) {
 
 struct Op {
   std::int64_t frame_index = -1; // >= 0 for a frame
+  // A frame already written to the visible file: its arrays were released and the shadow copies the
+  // group from there (H5Ocopy) instead of keeping a second whole frame in memory for the whole run.
+  bool frame_in_visible_file = false;
   std::variant<FrameData, SeriesRow> data;
 };
 
@@ -417,7 +420,7 @@ struct ResultWriter::Impl {
   std::function<void()> hook;
 
   // Writer-task state (one task at a time).
-  std::vector<Op> lagging; // applied to the visible file but not yet to the shadow
+  std::vector<Op> lagging; // applied to the visible file but not yet to the shadow (frames: no arrays)
   bool shadow_exists = true;
   std::vector<FrameMeta> metas;
 
@@ -542,12 +545,22 @@ struct ResultWriter::Impl {
       Hid file(H5Fopen(p.c_str(), H5F_ACC_RDWR, fapl), H5Fclose, "open " + p);
       std::int64_t frames = get_attr_i64(file, "frames_complete");
       std::int64_t rows = get_attr_i64(file, "series_complete");
+      Hid visible; // opened read-only for the first frame copied from it
       for (const auto* ops : {&a, &b}) {
         for (const Op& op : *ops) {
           if (op.frame_index >= 0) {
             if (op.frame_index != frames)
               throw std::runtime_error("frame " + std::to_string(op.frame_index) + " out of order in " + p);
-            write_frame_group(file, frames, std::get<FrameData>(op.data));
+            if (op.frame_in_visible_file) {
+              if (visible < 0)
+                visible = Hid(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose,
+                              "open " + path + " to copy its last frame");
+              const std::string name = "/frames/" + frame_name(frames);
+              check(H5Ocopy(visible, name.c_str(), file, name.c_str(), H5P_DEFAULT, H5P_DEFAULT),
+                    "copy " + name + " from " + path);
+            } else {
+              write_frame_group(file, frames, std::get<FrameData>(op.data));
+            }
             ++frames;
           } else {
             append_series_row(file, rows, std::get<SeriesRow>(op.data));
@@ -627,6 +640,11 @@ struct ResultWriter::Impl {
     }
     if (shadow_exists) {
       lagging = std::move(batch);
+      for (Op& op : lagging)
+        if (op.frame_index >= 0) {
+          op.data = FrameData{};
+          op.frame_in_visible_file = true;
+        }
     } else {
       lagging.clear();
     }
