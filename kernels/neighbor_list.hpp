@@ -11,6 +11,7 @@
 // slots whose history is not zero are carried (a compact CSR of partner and history, about the active
 // contacts), not the whole previous list: that would double the list's memory for the step of a rebuild.
 #include <Kokkos_Core.hpp>
+#include <cstdint>
 #include "core/domain.hpp"
 #include "kernels/cell_grid.hpp"
 
@@ -30,7 +31,7 @@ struct NeighborList {
   // What each slot hands to its partner: the pair force on the owner (the partner gets its negative),
   // the torque on the partner, and whether the pair is an active contact.
   Kokkos::View<ForceReal*[3], Mem> slot_force, slot_partner_torque;
-  Kokkos::View<int*, Mem> slot_active;
+  Kokkos::View<std::uint8_t*, Mem> slot_active; // 0: exerts nothing, 1: exerts a force, 2: active contact
   int num_slots = 0;
 
   // The history to carry into the next build: per particle (by its index at the last build), the
@@ -40,8 +41,9 @@ struct NeighborList {
 
   std::size_t bytes() const {
     return (offsets.span() + neighbors.span() + partner_offsets.span() + partner_slots.span() +
-            slot_active.span() + carry_offsets.span() + carry_partner.span()) *
+            carry_offsets.span() + carry_partner.span()) *
                sizeof(int) +
+           slot_active.span() * sizeof(std::uint8_t) +
            (history.span() + carry_history.span() + slot_force.span() + slot_partner_torque.span()) *
                sizeof(ForceReal);
   }
@@ -109,7 +111,7 @@ struct NeighborList {
         });
     const int total = counts_to_offsets(offs, n, "cgdem::kernels::nl_scan");
     num_slots = total;
-    if (static_cast<int>(neighbors.extent(0)) < total) reserve(static_cast<int>(total * 1.2) + 64);
+    if (static_cast<int>(neighbors.extent(0)) < total) reserve(capacity_for(total));
     const auto neigh = neighbors;
     const auto hist = history;
     const auto c_offs = carry_offsets;
@@ -182,7 +184,7 @@ struct NeighborList {
         });
     const int total = counts_to_offsets(c_offs, n, "cgdem::kernels::nl_carry_scan");
     if (static_cast<int>(carry_partner.extent(0)) < total) {
-      const int capacity = static_cast<int>(total * 1.2) + 64;
+      const int capacity = capacity_for(total);
       carry_partner = Kokkos::View<int*, Mem>("cgdem::kernels::nl_carry_partner", capacity);
       carry_history = HistoryView("cgdem::kernels::nl_carry_history", capacity, H);
     }
@@ -244,7 +246,12 @@ struct NeighborList {
     Kokkos::fence();
   }
 
-  // Room for `capacity` slots (with the same headroom policy everywhere: growth only, never per step).
+  // The capacity allocated for `slots` slots: 1/16 headroom, so that the list of a settled or slowly
+  // changing scene is rebuilt in place, while the slot arrays (~80 B per slot) stay close to the count.
+  // A list that outgrows it is reallocated at the next build, which refills every slot anyway.
+  static int capacity_for(int slots) { return slots + slots / 16 + 64; }
+
+  // Room for `capacity` slots (growth only, never per step).
   void reserve(int capacity) {
     if (static_cast<int>(neighbors.extent(0)) < capacity) {
       Kokkos::View<int*, Mem> grown("cgdem::kernels::nl_neighbors", capacity);
@@ -257,7 +264,7 @@ struct NeighborList {
       slot_force = Kokkos::View<ForceReal* [3], Mem>("cgdem::kernels::slot_force", capacity);
       slot_partner_torque =
           Kokkos::View<ForceReal* [3], Mem>("cgdem::kernels::slot_partner_torque", capacity);
-      slot_active = Kokkos::View<int*, Mem>("cgdem::kernels::slot_active", capacity);
+      slot_active = Kokkos::View<std::uint8_t*, Mem>("cgdem::kernels::slot_active", capacity);
     }
   }
 };

@@ -381,7 +381,7 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   const auto& hist = need(c.reals, "nl_history");
   const int slots = static_cast<int>(neigh.size());
   nl_.offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_offsets", n_ + 1);
-  nl_.reserve(static_cast<int>(slots * 1.2) + 64);
+  nl_.reserve(decltype(nl_)::capacity_for(slots));
   detail::from_vector(nl_.offsets, offs, "nl_offsets");
   {
     auto h = Kokkos::create_mirror_view(nl_.neighbors);
