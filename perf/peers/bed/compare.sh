@@ -6,6 +6,8 @@
 # For each bed size: cgdem with 1 and 2 threads, LIGGGHTS and LAMMPS with mpirun -np 1 and -np 2, run
 # alternately (R rounds of all six, default 3), S steps each (default 2000, dt 1e-5 s). Setup is excluded:
 # cgdem's "particle-steps/s" summary times the stepping only, the peers' rate is atoms x steps / "Loop time".
+# Every code writes the same output, the first and the last frame with every particle field (cgdem its HDF5
+# frames, the peers a binary dump, deleted after the run), so the times and the peak memory include the same I/O.
 # Prints per code and thread/rank count the median and min-max of particle-steps/s, the peak memory per
 # particle (/usr/bin/time max RSS summed over ranks / N, whole process: includes the executable and
 # libraries), the contacts per particle at the end ((particle-particle + floor contacts) / N, cgdem's count
@@ -95,7 +97,8 @@ run_peer() { # code n ranks run
   rm -f "$tag.rss".*
   # shellcheck disable=SC2086
   (cd "$OUT" && $MPIRUN $MPI_FLAGS -np "$np" sh -c 'exec /usr/bin/time -f %M -o "$0.${OMPI_COMM_WORLD_RANK:-0}" "$@"' \
-      "$tag.rss" "$bin" -in "$input" -var data "$HERE/work/bed_$n.data" -var steps "$STEPS" "${extra[@]}" \
+      "$tag.rss" "$bin" -in "$input" -var data "$HERE/work/bed_$n.data" -var steps "$STEPS" \
+      -var dumpfile "$tag.dump_*.bin" "${extra[@]}" \
       -echo none -log none >"$tag.log" 2>&1) || { echo "$code failed: $tag.log" >&2; return 1; }
   # "Loop time of T on P procs for S steps with N atoms"; the thermo line of the last step: step atoms ke pairs floor
   local row
@@ -103,6 +106,7 @@ run_peer() { # code n ranks run
                            $1 == s && NF == 5 { c = $4 + $5 }
                            END { if (t > 0) printf "%d\t%.6g\t%d", na, na * st / t, c }' "$tag.log")
   [ -n "$row" ] || { echo "$code: no Loop time in $tag.log" >&2; return 1; }
+  rm -f "$tag".dump_*.bin
   local atoms pss contacts
   IFS=$'\t' read -r atoms pss contacts <<<"$row"
   printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$n" "$code" "$np" "$r" "$atoms" "$pss" "$(sum_rss "$tag.rss".*)" "$contacts" >> "$ROWS"
