@@ -107,7 +107,8 @@ const char* check_help() {
 
 Validates the scene exactly as 'run' would (same errors, exit code 2) and prints, without simulating:
 the compiled contact law, the time step with the rule and material pair that set it, the particle
-count per group, the neighbour skin and the memory estimate.
+count per group, the neighbour skin and the memory: what the engine holds once it has built its first
+neighbour list (built here on one thread, as 'run' would) and what each output frame adds.
 
 Examples:
   cgdem check scenes/pile_in_cylinder.yaml

@@ -49,6 +49,10 @@ struct CellBins {
   Kokkos::View<int*, Mem> cell_fill;
   Kokkos::View<int*, Mem> order;       // particles sorted by cell, index order inside a cell
 
+  std::size_t bytes() const {
+    return (cell_of_particle.span() + cell_start.span() + cell_fill.span() + order.span()) * sizeof(int);
+  }
+
   template <class PositionView>
   void build(const CellGrid& grid, const PositionView& position, int n) {
     const int ncell = grid.count();

@@ -116,7 +116,9 @@ public:
   StepTimers timers() const override { return timers_; }
   std::size_t bytes() const override {
     return std::size_t(n_) * ParticleStore<Mem>::bytes_per_particle() + nl_.bytes() +
-           wall_history_.span() * sizeof(ForceReal) + reorder_scratch_.span() * sizeof(double);
+           wall_history_.span() * sizeof(ForceReal) + reorder_scratch_.span() * sizeof(double) +
+           wall_force_record_.span() * sizeof(Real) + bins_.bytes() +
+           (identity_.span() + old_index_.span()) * sizeof(int);
   }
   std::string physics() const override { return physics_; }
   std::string backend() const override { return backend_; }

@@ -14,6 +14,7 @@
 #include <regex>
 #include <sstream>
 #include <thread>
+#include "core/particle_store.hpp"
 
 namespace fs = std::filesystem;
 
@@ -182,6 +183,19 @@ TEST_F(CliTest, BadInputGivesOneLineExitTwoAndNoOutput) {
   EXPECT_EQ(r.code, 2) << r.err;
   EXPECT_NE(r.err.find("density"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "bad.h5"));
+}
+
+TEST_F(CliTest, CheckReportsTheMemoryTheEngineHolds) {
+  // Measured from an engine built as 'run' builds it: at least the particle store per particle, and not an
+  // estimate that ignores the particle count.
+  write("base.yaml", drop_scene);
+  const std::regex memory("memory +[0-9.]+ [KMG]?i?B in the engine \\(([0-9]+) B per particle");
+  std::smatch m;
+  const Result r = cgdem("check base.yaml --set groups.0.count=400");
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_TRUE(std::regex_search(r.out, m, memory)) << r.out;
+  EXPECT_GE(std::stod(m[1]), double(cgdem::ParticleStore<Kokkos::HostSpace>::bytes_per_particle())) << r.out;
+  EXPECT_LT(std::stod(m[1]), 20000.0) << r.out;
 }
 
 TEST_F(CliTest, SetOverridesNestedKeysAndListItems) {
