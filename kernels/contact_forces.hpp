@@ -46,8 +46,12 @@ struct ContactForces {
     const auto slot_force = nl.slot_force;
     const auto slot_torque = nl.slot_partner_torque;
     const auto slot_active = nl.slot_active;
+    // Dynamic chunks: the work per particle varies with its contacts and walls, and the spatial order puts
+    // whole layers (the floor layer, the loose top) into one static half. Each particle's result does not
+    // depend on which thread computes it, so this stays bitwise deterministic.
+    using DynamicRange = Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
     Kokkos::parallel_for(
-        "cgdem::kernels::contact_forces", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+        "cgdem::kernels::contact_forces", DynamicRange(0, n), KOKKOS_LAMBDA(int i) {
           const Vec3 xi = load3(p.position, i);
           const Vec3 vi = load3(p.velocity, i);
           const Vec3 wi = load3(p.angular_velocity, i);
