@@ -20,6 +20,10 @@ struct FrameData {
   std::vector<double> mass;                    // N
   std::vector<std::int32_t> group;             // N
   std::size_t size() const { return id.size(); }
+  // Host bytes one frame takes per particle (what `cgdem check` reports per output frame).
+  static constexpr std::size_t bytes_per_particle() {
+    return sizeof(std::int64_t) + 3 * 3 * sizeof(double) + 2 * sizeof(double) + sizeof(std::int32_t);
+  }
 };
 
 struct SeriesRow {

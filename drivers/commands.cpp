@@ -369,8 +369,7 @@ int check_command(const std::vector<std::string>& args) {
     {
       const auto engine = make_engine(p.config, default_backend());
       const double n = std::max(1.0, static_cast<double>(engine->size()));
-      const double frame =
-          n * (sizeof(std::int64_t) + 3 * 3 * sizeof(double) + 2 * sizeof(double) + sizeof(std::int32_t));
+      const double frame = n * double(FrameData::bytes_per_particle());
       std::printf("memory       %s in the engine (%.0f B per particle after the first neighbour list) + %s "
                   "per output frame\n",
                   human_bytes(double(engine->bytes())).c_str(), double(engine->bytes()) / n,
