@@ -92,6 +92,8 @@ public:
         n_[a] = 0;
         size_[a] = cell;
       }
+      // With fewer than 3 cells along a periodic axis the 27-cell stencil wraps onto itself.
+      stencil_wraps_ = stencil_wraps_ || (d.periodic[a] && n_[a] < 3);
     }
   }
   CellKey key(const Vec3d& x) const {
@@ -108,6 +110,15 @@ public:
   // Calls f(j) for every stored index in the 27 cells around x (each cell once).
   template <class F>
   void for_neighbours(const Vec3d& x, F&& f) const {
+    any_neighbour(x, [&](int j) {
+      f(j);
+      return false;
+    });
+  }
+  // Whether pred(j) holds for a stored index in the 27 cells around x; stops at the first that does
+  // (random placement rejects a try at its first overlap).
+  template <class Pred>
+  bool any_neighbour(const Vec3d& x, Pred&& pred) const {
     const CellKey k = key(x);
     CellKey seen[27];
     int nseen = 0;
@@ -118,13 +129,16 @@ public:
           for (int a = 0; a < 3; ++a)
             if (d_.periodic[a]) c[a] = ((c[a] % n_[a]) + n_[a]) % n_[a];
           const CellKey nk{c[0], c[1], c[2]};
-          if (std::find(seen, seen + nseen, nk) != seen + nseen) continue;
-          seen[nseen++] = nk;
+          if (stencil_wraps_) {
+            if (std::find(seen, seen + nseen, nk) != seen + nseen) continue;
+            seen[nseen++] = nk;
+          }
           const auto it = cells_.find(nk);
           if (it == cells_.end()) continue;
           for (int j : it->second)
-            f(j);
+            if (pred(j)) return true;
         }
+    return false;
   }
   // x_b - x_a, minimum image on periodic axes.
   Vec3d delta(const Vec3d& a, const Vec3d& b) const {
@@ -140,6 +154,7 @@ private:
   DomainSpec d_;
   double len_[3], size_[3];
   int n_[3];
+  bool stencil_wraps_ = false;
   std::unordered_map<CellKey, std::vector<int>, CellKeyHash> cells_;
 };
 
@@ -481,11 +496,9 @@ void place_random(const GroupSpec& g, std::size_t gi, std::vector<double> r, Cel
           x[a] = p.lo[a] + rk + room * rng.uniform();
         }
       }
-      ok = true;
-      grid.for_neighbours(x, [&](int j) {
-        if (!ok) return;
+      ok = !grid.any_neighbour(x, [&](int j) {
         const double c = rk + placed.radius[static_cast<std::size_t>(j)];
-        if (dist2(grid.delta(x, placed.position[static_cast<std::size_t>(j)])) < c * c) ok = false;
+        return dist2(grid.delta(x, placed.position[static_cast<std::size_t>(j)])) < c * c;
       });
     }
     if (!ok)
