@@ -67,14 +67,16 @@ struct ContactForces {
           const int slot_end = offsets(i + 1);
           for (int s = offsets(i); s < slot_end; ++s) {
             const int j = neighbors(s);
-            // The partner two slots ahead: its position and velocities are three scattered cache lines,
-            // and one contact's ~500 instructions are more than the core looks ahead, so without the hint
-            // each slot starts by waiting for them (200k bed, 1 thread: +5 %, perf/README.md).
+            // The partner two slots ahead: its position, velocities, radius and mass are five scattered
+            // cache lines, and one contact's ~500 instructions are more than the core looks ahead, so
+            // without the hint each slot starts by waiting for them (perf/README.md).
             if (s + 2 < slot_end) {
               const int ahead = neighbors(s + 2);
               math::prefetch(&p.position(ahead, 0));
               math::prefetch(&p.velocity(ahead, 0));
               math::prefetch(&p.angular_velocity(ahead, 0));
+              math::prefetch(&p.radius(ahead));
+              math::prefetch(&p.mass(ahead));
             }
             const Real rj = p.radius(j);
             const Vec3 d = domain.minimum_image(load3(p.position, j) - xi);
