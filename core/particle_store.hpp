@@ -63,10 +63,6 @@ template <class View>
 KOKKOS_INLINE_FUNCTION Vec3 load3(const View& v, int i) {
   return Vec3{v(i, 0), v(i, 1), v(i, 2)};
 }
-// A vector as a ForceReal view stores it (rounded to float under CGDEM_FLOAT_FORCES, else unchanged).
-KOKKOS_INLINE_FUNCTION Vec3 as_stored(const Vec3& a) {
-  return Vec3{Real(ForceReal(a.x)), Real(ForceReal(a.y)), Real(ForceReal(a.z))};
-}
 
 template <class View>
 KOKKOS_INLINE_FUNCTION void store3(const View& v, int i, const Vec3& a) {

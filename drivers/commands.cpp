@@ -405,11 +405,10 @@ int info_command(const std::vector<std::string>& args) {
   std::printf("compiled contact laws (normal[+adhesion][+tangential][+rolling]):\n");
   for (const auto& c : compiled_physics())
     std::printf("  %s\n", c.c_str());
-  std::printf("force accumulation: half neighbour list, partners' shares gathered in slot order "
-              "(deterministic on every backend)\n");
-  std::printf(
-      "precision: positions, velocities, total forces double; per-pair force shares and contact history %s\n",
-      sizeof(ForceReal) == sizeof(float) ? "float (CGDEM_FLOAT_FORCES)" : "double");
+  std::printf("force accumulation: half neighbour list, reactions added to the partners block by block in "
+              "4 colours (no atomics; deterministic on every backend)\n");
+  std::printf("precision: positions, velocities, total forces double; contact history %s\n",
+              sizeof(ForceReal) == sizeof(float) ? "float (CGDEM_FLOAT_FORCES)" : "double");
   return 0;
 }
 

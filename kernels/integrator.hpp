@@ -3,8 +3,8 @@
 //   kick_drift: v += dt/2 (F/m + g), omega += dt/2 T/I, x += dt v (wrapped into periodic axes);
 //               returns the largest squared displacement since the last list build (NaN/Inf -> +inf,
 //               which the caller reports as a blow-up);
-// The closing kick, v += dt/2 (F/m + g), omega += dt/2 T/I with the new forces, is fused into the force
-// gather (ContactForces, ClosingKick): the step then costs three kernel launches instead of four.
+// The closing kick, v += dt/2 (F/m + g), omega += dt/2 T/I with the new forces, is launched by the force
+// pass right after its last colour (ContactForces, ClosingKick).
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"

@@ -2,7 +2,7 @@
 // Simulation<Law, ExecSpace>: the time loop over the SoA store, for one compiled contact law on one
 // Kokkos execution space. Each step (design.md):
 //   kick + drift -> (list rebuild with spatial reorder when a particle moved > skin/2) -> forces, then the
-//   closing kick fused into the force gather (the integrate timer holds kick + drift only).
+//   closing kick, launched by the force pass (the integrate timer holds kick + drift only).
 #include <Kokkos_Core.hpp>
 #include <algorithm>
 #include <cstdio>

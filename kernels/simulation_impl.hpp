@@ -393,8 +393,10 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
       hh.data()[k] = hist[k];
     Kokkos::deep_copy(nl_.history, hh);
   }
-  nl_.build_partners(n_);
   nl_.num_slots = slots;
+  // The force pass's blocks from the cells the list was built with (positions at the build).
+  bins_.build(grid_, store_.position_at_build, n_);
+  nl_.build_blocks(cfg_.domain, grid_, bins_, n_);
   builds_ = static_cast<long>(need(c.scalars, "builds"));
   step_ = c.step;
   time_ = c.time;

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# The precision knob's speed against its error: the default build (per-pair force shares and contact
-# history stored in double) against a CGDEM_FLOAT_FORCES build (stored in float, computed in double;
+# The precision knob's speed against its error: the default build (per-pair contact history stored in
+# double) against a CGDEM_FLOAT_FORCES build (stored in float, computed in double;
 # positions, velocities and total forces double in both), on the same inputs:
 #   speed      median particle-steps/s of R alternating runs on the shared 10k and 50k settled beds (1 thread);
 #   bed error  after S steps from the same bed: contacts, kinetic energy, largest position difference

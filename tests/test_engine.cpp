@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include "kernels/neighbor_list.hpp"
+#include "models/hertz_tsuji.hpp"
+#include "models/mindlin_tangential.hpp"
 #include "tests/test_support.hpp"
 
 using namespace cgdem;
@@ -74,6 +77,72 @@ TEST(NeighborList, EqualsBruteForceOnPolydispersePeriodicPacksAlsoAfterReorder) 
     c = engine->checkpoint();
     EXPECT_NE(c.ints.at("id"), p.id) << "the reorder should have permuted the store";
     EXPECT_EQ(listed(c), brute_force(c, box, skin)) << "after reorder, seed " << seed;
+  }
+}
+
+// The force pass adds each pair's reaction to the partner directly; it is race-free only if no two
+// blocks of one colour write to the same particle (the block itself and its members' partners), and
+// complete only if every particle is in exactly one block. Checked on packs whose cells do not divide
+// evenly into strips: periodic on every axis (strips must pair up across the seam), open in z, and a
+// tall open column where the occupied range decides the strips.
+TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
+  using Law = models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>;
+  using Exec = Kokkos::DefaultHostExecutionSpace;
+  struct Case {
+    double box;
+    bool periodic_z;
+    double fill_height; // fraction of the box height the particles occupy
+  };
+  for (const Case& c : {Case{0.0286, true, 1.0}, Case{0.0157, false, 1.0}, Case{0.0143, false, 0.3}}) {
+    ParticleSet p = random_periodic(2500, c.box, 0.2e-3, 0.5e-3, 2500, 0, 7);
+    for (auto& x : p.position)
+      x[2] *= c.fill_height;
+    const int n = static_cast<int>(p.size());
+    const Domain domain({0, 0, 0}, {c.box, c.box, c.box}, true, true, c.periodic_z);
+    const double skin = 0.1e-3;
+    Kokkos::View<double* [3], Kokkos::HostSpace> x("x", n);
+    Kokkos::View<double*, Kokkos::HostSpace> r("r", n);
+    Kokkos::View<int*, Kokkos::HostSpace> identity("identity", n);
+    for (int i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a)
+        x(i, a) = p.position[i][a];
+      r(i) = p.radius[i];
+      identity(i) = i;
+    }
+    const kernels::CellGrid grid(domain, 2 * 0.5e-3 + skin, 1L << 20);
+    kernels::CellBins<Exec> bins;
+    bins.build(grid, x, n);
+    kernels::NeighborList<Exec, Law> nl;
+    nl.build(domain, grid, bins, x, r, skin, n, identity, false);
+
+    int blocks_with_particles = 0;
+    std::vector<int> block_of(n, -1);
+    for (int b = 0; b < nl.colour_begin[nl.kColours]; ++b) {
+      blocks_with_particles += nl.block_offsets(b + 1) > nl.block_offsets(b) ? 1 : 0;
+      for (int m = nl.block_offsets(b); m < nl.block_offsets(b + 1); ++m) {
+        ASSERT_EQ(block_of[nl.block_members(m)], -1) << "particle in two blocks";
+        block_of[nl.block_members(m)] = b;
+      }
+    }
+    for (int i = 0; i < n; ++i)
+      ASSERT_GE(block_of[i], 0) << "particle " << i << " in no block";
+    EXPECT_GE(blocks_with_particles, 8) << "box " << c.box << ": too few blocks to share between threads";
+    for (int colour = 0; colour < nl.kColours; ++colour) {
+      std::vector<int> writer(n, -1);
+      for (int b = nl.colour_begin[colour]; b < nl.colour_begin[colour + 1]; ++b)
+        for (int m = nl.block_offsets(b); m < nl.block_offsets(b + 1); ++m) {
+          const int i = nl.block_members(m);
+          std::vector<int> written{i};
+          for (int s = nl.offsets(i); s < nl.offsets(i + 1); ++s)
+            written.push_back(nl.neighbors(s));
+          for (int j : written) {
+            ASSERT_TRUE(writer[j] == -1 || writer[j] == b)
+                << "box " << c.box << ", colour " << colour << ": blocks " << writer[j] << " and " << b
+                << " both write to particle " << j;
+            writer[j] = b;
+          }
+        }
+    }
   }
 }
 
