@@ -71,9 +71,10 @@ struct ContactForces {
       const int slot_end = offsets(i + 1);
       for (int s = offsets(i); s < slot_end; ++s) {
         const int j = neighbors(s);
-        // The partner two slots ahead: its position, velocities, radius and mass are five scattered
-        // cache lines, and one contact's ~500 instructions are more than the core looks ahead, so
-        // without the hint each slot starts by waiting for them (perf/README.md).
+        // The partner two slots ahead: its position, velocities, radius, mass, and the force and torque
+        // the reaction is added to, are seven scattered cache lines, and one contact's ~500 instructions
+        // are more than the core looks ahead, so without the hint each slot starts by waiting for them
+        // (perf/README.md).
         if (s + 2 < slot_end) {
           const int ahead = neighbors(s + 2);
           math::prefetch(&p.position(ahead, 0));

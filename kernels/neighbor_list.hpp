@@ -10,7 +10,6 @@
 // slots whose history is not zero are carried (a compact CSR of partner and history, about the active
 // contacts), not the whole previous list: that would double the list's memory for the step of a rebuild.
 #include <Kokkos_Core.hpp>
-#include <cstdint>
 #include "core/domain.hpp"
 #include "kernels/cell_grid.hpp"
 
@@ -203,10 +202,11 @@ struct NeighborList {
 
   // Strips along one axis: about five cells wide, so that a block keeps most of its particles' partners
   // and the colours do not each sweep the whole store (two-cell strips were 9-18 % slower than the old
-  // gather at 50k-200k, eight-cell ones 5-15 % faster; five as fast on 1 thread and up to 4 % faster on 2,
-  // more blocks to share), but at least four when the axis has room. Never narrower than two cells (the colouring's condition). A
-  // periodic axis needs an even count (or one strip), so that the last strip and the first, which touch,
-  // get different colours. The count depends on the grid only, never on the thread count.
+  // gather at 50k-200k, eight-cell ones 5-15 % faster, five-cell ones as fast on 1 thread and up to 4 %
+  // faster on 2: more blocks to share), but at least four where the axis has room. Never narrower than
+  // two cells (the colouring's condition). A periodic axis needs an even count (or one strip), so that
+  // the last strip and the first, which touch, get different colours. The count depends on the cells
+  // only, never on the thread count.
   static int strip_count(int cells, bool periodic) {
     int strips = cells / 5;
     const int at_least = cells / 2 < 4 ? cells / 2 : 4;
@@ -217,63 +217,56 @@ struct NeighborList {
   }
 
   // The colouring of the force pass. The cells are at least a cut-off wide, so a listed pair sits in the
-  // same or neighbouring cells (in the bins used for this build). Cut y and z into strips of >= 2 cells;
-  // a block is one strip of each (all of the third axis). A block's particles reach one cell into the
-  // neighbouring strips, and with strips >= 2 cells wide, the two neighbours of a strip (same parity) reach
-  // different cells. So two blocks whose strips have the same parities on both axes never write to the
-  // same particle: 4 colours, run one after the other, each colour's blocks in parallel. The strips cover
-  // the occupied cells (a settled bed is wide, not tall). `bins` must be the bins of the build (after a
-  // restart: of position_at_build).
+  // same or neighbouring cells (in the bins used for this build). Cut y and z into strips of >= 2 cells
+  // over the occupied cells (a settled bed is wide, not tall); a block is one y strip by one z strip, whole
+  // x rows, which the spatial sort (z, y, x) keeps contiguous in the store (cutting x too was 15 % slower
+  // at 200k). A block's particles reach one cell into the neighbouring strips, and with strips >= 2 cells
+  // wide, the two neighbours of a strip (same parity) reach different cells. So two blocks whose strips
+  // have the same parities on both axes never write to the same particle: 4 colours, run one after the
+  // other, each colour's blocks in parallel. `bins` must be the bins of the build (after a restart: of
+  // position_at_build).
   void build_blocks(const Domain& domain, const CellGrid& grid, const CellBins<ExecSpace>& bins, int n) {
-    // The occupied cell range per axis (a periodic axis: all of it, the strips must pair up across it).
-    int lo[3], hi[3];
+    const int nx = grid.dims[0], ny = grid.dims[1];
+    // Strip k of axis a (1: y, 2: z): cells [edge(a, k), edge(a, k + 1)) of the occupied range [lo, hi],
+    // the outer strips extended to the domain's ends. A periodic axis: all of it (its strips pair up
+    // across the seam).
+    int lo[3] = {0, 0, 0}, hi[3] = {nx - 1, ny - 1, grid.dims[2] - 1}, strips[3] = {1, 1, 1};
     const auto cell_of = bins.cell_of_particle;
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = 0;
-      hi[a] = grid.dims[a] - 1;
-      if (domain.periodic[a] || n == 0) continue;
-      const int stride = a == 0 ? 1 : (a == 1 ? grid.dims[0] : grid.dims[0] * grid.dims[1]);
-      const int cells = grid.dims[a];
-      typename Kokkos::MinMax<int>::value_type range;
-      Kokkos::parallel_reduce(
-          "cgdem::kernels::nl_block_range", Kokkos::RangePolicy<ExecSpace>(0, n),
-          KOKKOS_LAMBDA(int i, typename Kokkos::MinMax<int>::value_type& r) {
-            const int c = (cell_of(i) / stride) % cells;
-            if (c < r.min_val) r.min_val = c;
-            if (c > r.max_val) r.max_val = c;
-          },
-          Kokkos::MinMax<int>(range));
-      lo[a] = range.min_val;
-      hi[a] = range.max_val;
+    for (int a = 1; a < 3; ++a) {
+      if (!domain.periodic[a] && n > 0) {
+        const int stride = a == 1 ? nx : nx * ny, cells = grid.dims[a];
+        typename Kokkos::MinMax<int>::value_type range;
+        Kokkos::parallel_reduce(
+            "cgdem::kernels::nl_block_range", Kokkos::RangePolicy<ExecSpace>(0, n),
+            KOKKOS_LAMBDA(int i, typename Kokkos::MinMax<int>::value_type& r) {
+              const int c = (cell_of(i) / stride) % cells;
+              if (c < r.min_val) r.min_val = c;
+              if (c > r.max_val) r.max_val = c;
+            },
+            Kokkos::MinMax<int>(range));
+        lo[a] = range.min_val;
+        hi[a] = range.max_val;
+      }
+      strips[a] = strip_count(hi[a] - lo[a] + 1, domain.periodic[a]);
     }
-    // Split y and z: blocks keep whole x rows, which the spatial sort (z, y, x) keeps contiguous in the
-    // store (cutting x as well was 15 % slower at 200k).
-    const int axis_u = 1, axis_v = 2;
-    const int su = strip_count(hi[axis_u] - lo[axis_u] + 1, domain.periodic[axis_u]);
-    const int sv = strip_count(hi[axis_v] - lo[axis_v] + 1, domain.periodic[axis_v]);
-    // Strip k of an axis: cells [edge(k), edge(k + 1)), the outer strips extended to the domain's ends.
-    auto edge = [&](int a, int strips, int k) {
+    auto edge = [&](int a, int k) {
       if (k == 0) return 0;
-      if (k == strips) return grid.dims[a];
-      return lo[a] + k * (hi[a] - lo[a] + 1) / strips;
+      if (k == strips[a]) return grid.dims[a];
+      return lo[a] + k * (hi[a] - lo[a] + 1) / strips[a];
     };
-    const int nblocks = su * sv;
-    // Host: each block's cell box (x0, x1, y0, y1, z0, z1), colour by colour (once per build).
-    Kokkos::View<int* [6], Mem> box("cgdem::kernels::nl_block_box", nblocks);
+    const int nblocks = strips[1] * strips[2];
+    // Host: each block's cells (y0, y1, z0, z1), colour by colour (once per build).
+    Kokkos::View<int* [4], Mem> box("cgdem::kernels::nl_block_box", nblocks);
     auto hbox = Kokkos::create_mirror_view(box);
     int b = 0;
     for (int colour = 0; colour < kColours; ++colour) {
       colour_begin[colour] = b;
-      for (int v = colour / 2; v < sv; v += 2)
-        for (int u = colour % 2; u < su; u += 2) {
-          for (int a = 0; a < 3; ++a) {
-            hbox(b, 2 * a) = 0;
-            hbox(b, 2 * a + 1) = grid.dims[a];
-          }
-          hbox(b, 2 * axis_u) = edge(axis_u, su, u);
-          hbox(b, 2 * axis_u + 1) = edge(axis_u, su, u + 1);
-          hbox(b, 2 * axis_v) = edge(axis_v, sv, v);
-          hbox(b, 2 * axis_v + 1) = edge(axis_v, sv, v + 1);
+      for (int z = colour / 2; z < strips[2]; z += 2)
+        for (int y = colour % 2; y < strips[1]; y += 2) {
+          hbox(b, 0) = edge(1, y);
+          hbox(b, 1) = edge(1, y + 1);
+          hbox(b, 2) = edge(2, z);
+          hbox(b, 3) = edge(2, z + 1);
           ++b;
         }
     }
@@ -287,15 +280,11 @@ struct NeighborList {
     const auto order = bins.order;
     const auto b_offs = block_offsets;
     const auto members = block_members;
-    const int nx = grid.dims[0], ny = grid.dims[1];
-    // A block's particles in cell order (z, y, then x; a cell's in index order): each x run of a row is
-    // contiguous in the bins.
+    // A block's particles in cell order (z, y, then x; a cell's in index order): each z layer of the block
+    // (whole x rows) is one contiguous run of the bins.
     auto for_each_run = [=] KOKKOS_FUNCTION(int blk, auto&& f) {
-      for (int z = box(blk, 4); z < box(blk, 5); ++z)
-        for (int y = box(blk, 2); y < box(blk, 3); ++y) {
-          const int row = nx * (y + ny * z);
-          f(start(row + box(blk, 0)), start(row + box(blk, 1)));
-        }
+      for (int z = box(blk, 2); z < box(blk, 3); ++z)
+        f(start(nx * (box(blk, 0) + ny * z)), start(nx * (box(blk, 1) + ny * z)));
     };
     Kokkos::parallel_for(
         "cgdem::kernels::nl_block_count", Kokkos::RangePolicy<ExecSpace>(0, nblocks), KOKKOS_LAMBDA(int blk) {
