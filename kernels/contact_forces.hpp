@@ -16,13 +16,6 @@
 
 namespace cgdem::kernels {
 
-// The closing half kick v += dt/2 (F/m + g), omega += dt/2 T/I, run after the last colour.
-struct ClosingKick {
-  bool enabled = false;
-  Vec3 gravity;
-  Real half_dt = 0;
-};
-
 template <class ExecSpace, class Law>
 struct ContactForces {
   using Mem = typename ExecSpace::memory_space;
@@ -32,12 +25,11 @@ struct ContactForces {
   // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
   // the force each particle feels from each wall part is stored there too (for the wall reductions).
   template <class NeighborListT>
-  static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
-                      const ParamTable& pair_params, const ParamTable& wall_params,
-                      const Kokkos::View<Wall*, Mem>& walls,
-                      const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
-                      const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach, Law law,
-                      int n, ClosingKick kick = {}) {
+  static void
+  compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
+          const ParamTable& pair_params, const ParamTable& wall_params, const Kokkos::View<Wall*, Mem>& walls,
+          const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
+          const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach, Law law, int n) {
     const int nwalls = static_cast<int>(walls.extent(0));
     const bool record_wall_force = wall_force.extent(0) > 0;
     const auto offsets = nl.offsets;
@@ -208,18 +200,6 @@ struct ContactForces {
               particle_forces(block_members(m));
           });
     }
-
-    if (!kick.enabled) return;
-    // The closing half kick of velocity-Verlet (the opening one is Integrator::kick_drift).
-    Kokkos::parallel_for(
-        "cgdem::kernels::closing_kick", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int j) {
-          const Real inv_m = 1.0 / p.mass(j);
-          const Real inv_i = 1.0 / p.inertia(j);
-          store3(p.velocity, j,
-                 load3(p.velocity, j) + kick.half_dt * (inv_m * load3(p.force, j) + kick.gravity));
-          store3(p.angular_velocity, j,
-                 load3(p.angular_velocity, j) + (kick.half_dt * inv_i) * load3(p.torque, j));
-        });
   }
 };
 

@@ -3,8 +3,7 @@
 //   kick_drift: v += dt/2 (F/m + g), omega += dt/2 T/I, x += dt v (wrapped into periodic axes);
 //               returns the largest squared displacement since the last list build (NaN/Inf -> +inf,
 //               which the caller reports as a blow-up);
-// The closing kick, v += dt/2 (F/m + g), omega += dt/2 T/I with the new forces, is launched by the force
-// pass right after its last colour (ContactForces, ClosingKick).
+//   closing_kick: v += dt/2 (F/m + g), omega += dt/2 T/I with the new forces.
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
@@ -37,6 +36,17 @@ struct Integrator {
         },
         Kokkos::Max<Real>(max_disp2));
     return max_disp2;
+  }
+
+  static void closing_kick(const ParticleStore<Mem>& p, const Vec3& gravity, Real dt, int n) {
+    const Real half = 0.5 * dt;
+    Kokkos::parallel_for(
+        "cgdem::kernels::closing_kick", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          const Real inv_m = 1.0 / p.mass(i);
+          const Real inv_i = 1.0 / p.inertia(i);
+          store3(p.velocity, i, load3(p.velocity, i) + half * (inv_m * load3(p.force, i) + gravity));
+          store3(p.angular_velocity, i, load3(p.angular_velocity, i) + (half * inv_i) * load3(p.torque, i));
+        });
   }
 };
 

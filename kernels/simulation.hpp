@@ -1,8 +1,8 @@
 #pragma once
 // Simulation<Law, ExecSpace>: the time loop over the SoA store, for one compiled contact law on one
 // Kokkos execution space. Each step (design.md):
-//   kick + drift -> (list rebuild with spatial reorder when a particle moved > skin/2) -> forces, then the
-//   closing kick, launched by the force pass (the integrate timer holds kick + drift only).
+//   kick + drift -> (list rebuild with spatial reorder when a particle moved > skin/2) -> forces -> closing
+//   kick (the integrate timer holds both kicks and the drift).
 #include <Kokkos_Core.hpp>
 #include <algorithm>
 #include <cstdio>
@@ -73,7 +73,11 @@ public:
       if (4 * max_d2 > cfg_.skin * cfg_.skin) rebuild(false);
       ++step_;
       time_ = step_ * cfg_.dt; // not accumulated: a restart reproduces it bitwise
-      compute_forces(s == steps - 1, /*closing_kick=*/true);
+      compute_forces(s == steps - 1);
+      timer.reset();
+      Integrator<ExecSpace>::closing_kick(store_, cfg_.gravity, cfg_.dt, n_);
+      Kokkos::fence();
+      timers_.integrate += timer.seconds();
       if (step_ % health_every_ == 0) check_overlaps();
     }
   }
@@ -127,7 +131,7 @@ private:
   void upload_particles();
   void upload_tables();
   void rebuild(bool first);
-  void compute_forces(bool record_wall_forces, bool closing_kick = false);
+  void compute_forces(bool record_wall_forces);
   Real max_overlap_fraction();
   void check_overlaps();
   std::string diagnose(const std::string& what);

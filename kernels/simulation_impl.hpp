@@ -100,16 +100,12 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
 }
 
 template <class Law, class ExecSpace>
-void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool closing_kick) {
+void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces) {
   Kokkos::Timer timer;
   Kokkos::View<Real* [3], Mem> record;
   if (record_wall_forces) record = wall_force_record_;
-  ClosingKick kick;
-  kick.enabled = closing_kick;
-  kick.gravity = cfg_.gravity;
-  kick.half_dt = 0.5 * cfg_.dt;
   ContactForces<ExecSpace, Law>::compute(store_, nl_, cfg_.domain, pair_params_, wall_params_, walls_,
-                                         wall_history_, record, time_, cfg_.dt, cfg_.reach, Law{}, n_, kick);
+                                         wall_history_, record, time_, cfg_.dt, cfg_.reach, Law{}, n_);
   Kokkos::fence();
   timers_.forces += timer.seconds();
 }
