@@ -35,6 +35,11 @@ struct ContactForces {
     const auto offsets = nl.offsets;
     const auto neighbors = nl.neighbors;
     const auto history = nl.history;
+    // A slot's history row, H apart (like load3, without the View's runtime stride).
+    KOKKOS_ASSERT(H == 0 || history.stride(0) == static_cast<std::size_t>(H));
+    auto history_row = [=] KOKKOS_FUNCTION(int s) {
+      return history.data() + static_cast<std::size_t>(s) * H;
+    };
     const auto block_offsets = nl.block_offsets;
     const auto block_members = nl.block_members;
 
@@ -69,13 +74,13 @@ struct ContactForces {
         // (perf/README.md).
         if (s + 2 < slot_end) {
           const int ahead = neighbors(s + 2);
-          math::prefetch(&p.position(ahead, 0));
-          math::prefetch(&p.velocity(ahead, 0));
-          math::prefetch(&p.angular_velocity(ahead, 0));
+          math::prefetch(row3(p.position, ahead));
+          math::prefetch(row3(p.velocity, ahead));
+          math::prefetch(row3(p.angular_velocity, ahead));
           math::prefetch(&p.radius(ahead));
           math::prefetch(&p.mass(ahead));
-          math::prefetch(&p.force(ahead, 0));
-          math::prefetch(&p.torque(ahead, 0));
+          math::prefetch(row3(p.force, ahead));
+          math::prefetch(row3(p.torque, ahead));
         }
         const Real rj = p.radius(j);
         const Vec3 d = domain.minimum_image(load3(p.position, j) - xi);
@@ -87,7 +92,7 @@ struct ContactForces {
           // pairs are not touching and already zero: read first, write only when needed.
           if constexpr (H > 0)
             for (int k = 0; k < H; ++k)
-              if (history(s, k) != 0) history(s, k) = 0;
+              if (history_row(s)[k] != 0) history_row(s)[k] = 0;
           continue;
         }
         const Real dist = math::sqrt(dist2);
@@ -119,11 +124,11 @@ struct ContactForces {
         st.scale_j = p.scale_factor(j);
         if constexpr (H > 0)
           for (int k = 0; k < H; ++k)
-            h[k] = history(s, k);
+            h[k] = history_row(s)[k];
         const models::ContactForce cf = law(pp, st, h);
         if constexpr (H > 0)
           for (int k = 0; k < H; ++k)
-            history(s, k) = static_cast<ForceReal>(h[k]);
+            history_row(s)[k] = static_cast<ForceReal>(h[k]);
         f += cf.force;
         t += cf.torque;
         contacts += cf.active ? 1 : 0;
@@ -139,12 +144,13 @@ struct ContactForces {
       for (int w = 0; w < nwalls; ++w) {
         const Wall& wall = walls(w); // a reference: the struct with its motion segments is ~50 words
         const WallContact wc = wall_contact(wall, time, xi, ri);
+        ForceReal* const wh = H > 0 ? &wall_history(i, w * H) : nullptr; // this wall's H values
         Vec3 fw;
         if (!wc.reachable || wc.overlap <= -reach) {
           // Most particles are far from most walls and their history is already zero: read first.
           if constexpr (H > 0)
             for (int k = 0; k < H; ++k)
-              if (wall_history(i, w * H + k) != 0) wall_history(i, w * H + k) = 0;
+              if (wh[k] != 0) wh[k] = 0;
         } else {
           const Vec3 surface_velocity = wall_surface_velocity(wall, time, wc);
           models::PairState st;
@@ -169,11 +175,11 @@ struct ContactForces {
           st.scale_j = 0;
           if constexpr (H > 0)
             for (int k = 0; k < H; ++k)
-              h[k] = wall_history(i, w * H + k);
+              h[k] = wh[k];
           const models::ContactForce cf = law(pp, st, h);
           if constexpr (H > 0)
             for (int k = 0; k < H; ++k)
-              wall_history(i, w * H + k) = static_cast<ForceReal>(h[k]);
+              wh[k] = static_cast<ForceReal>(h[k]);
           fw = cf.force;
           f += cf.force;
           t += cf.torque;
