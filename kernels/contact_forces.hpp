@@ -103,11 +103,12 @@ struct ContactForces {
         const Vec3 wj = load3(p.angular_velocity, j);
         const models::PairParameters& pp = pair_params(mat_i, p.material(j));
         st.lever_share = pp.lever_share;
-        // Contact point velocities: lever arms (models::lever_arm) along +n for i and -n for j.
-        const Vec3 vci = vi + cross(wi, models::lever_arm(ri, st) * st.normal);
-        const Vec3 vcj = vj + cross(wj, (-models::lever_arm(rj, st)) * st.normal);
-        const Vec3 vrel = vci - vcj;
-        st.overlap_rate = dot(vi - vj, st.normal);
+        // Velocity of i's contact point relative to j's, the lever arms (models::lever_arm) l_i along +n and
+        // l_j along -n: (v_i + w_i x l_i n) - (v_j - w_j x l_j n) = (v_i - v_j) + (l_i w_i + l_j w_j) x n.
+        const Vec3 dv = vi - vj;
+        const Vec3 vrel =
+            dv + cross(models::lever_arm(ri, st) * wi + models::lever_arm(rj, st) * wj, st.normal);
+        st.overlap_rate = dot(dv, st.normal);
         st.tangential_velocity = vrel - dot(vrel, st.normal) * st.normal;
         st.relative_rotation = wi - wj;
         st.omega_i = wi;

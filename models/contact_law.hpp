@@ -11,6 +11,7 @@
 // may still act; the neighbour cut-off follows the longest), and a const device call operator.
 // A component with history_size 0 stores nothing; ContactLaw::history_size is the sum.
 #include <cmath>
+#include <type_traits>
 #include "models/contact_state.hpp"
 #include "models/pair_parameters.hpp"
 
@@ -114,8 +115,12 @@ struct ContactLaw {
     // Lever arms from the centres to the contact point (lever_arm: R - share x overlap) along +n for i and
     // -n for j; j feels -ft, so both tangential torques are lever * (n x ft).
     const Vec3 n_x_ft = cross(s.normal, ft);
-    out.torque = lever_arm(s.radius_i, s) * n_x_ft + rolling_torque.on_i;
-    out.torque_j = lever_arm(s.radius_j, s) * n_x_ft + rolling_torque.on_j;
+    out.torque = lever_arm(s.radius_i, s) * n_x_ft;
+    out.torque_j = lever_arm(s.radius_j, s) * n_x_ft;
+    if constexpr (!std::is_same<Rolling, NoRolling>::value) { // x + 0.0 is not x for x = -0.0: not folded
+      out.torque += rolling_torque.on_i;
+      out.torque_j += rolling_torque.on_j;
+    }
     return out;
   }
 };
