@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include "core/domain.hpp"
+#include "core/particle_store.hpp"
 #include "kernels/neighbor_list.hpp"
 #include "models/hertz_tsuji.hpp"
 #include "models/mindlin_tangential.hpp"
@@ -250,4 +252,51 @@ TEST(Conservation, ElasticFrictionlessBoxDriftsLessThan1e4OverTenThousandSteps) 
   std::printf("[ report ] elastic box N=5000 dt=0.1 T_R: relative energy drift %.3e over 10000 steps\n", (e1 - e0) / e0);
   EXPECT_GT(contacts_seen, 0);
   EXPECT_LT(std::fabs(e1 - e0) / e0, 1e-4);
+}
+
+// load3/store3 index n x 3 fields by hand when the layout allows it (perf/README.md, constant strides);
+// they must address exactly what the View's own indexing does, on the host layout and on LayoutLeft (the
+// CUDA default, which keeps the View's indexing).
+template <class Layout>
+void check_rows_match_view_indexing() {
+  Kokkos::View<Real* [3], Layout, Kokkos::HostSpace> v("v", 5);
+  for (int i = 0; i < 5; ++i)
+    store3(v, i, Vec3{10.0 * i, 10.0 * i + 1, 10.0 * i + 2});
+  for (int i = 0; i < 5; ++i) {
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(v(i, c), 10.0 * i + c) << "row " << i << " component " << c;
+    EXPECT_EQ(row3(v, i), &v(i, 0));
+    const Vec3 r = load3(v, i);
+    EXPECT_EQ(r.x, v(i, 0));
+    EXPECT_EQ(r.y, v(i, 1));
+    EXPECT_EQ(r.z, v(i, 2));
+  }
+}
+
+TEST(ParticleStore, RowAccessMatchesViewIndexingOnEveryLayout) {
+  static_assert(packed_rows3<Kokkos::View<Real* [3], Kokkos::LayoutRight, Kokkos::HostSpace>>());
+  static_assert(!packed_rows3<Kokkos::View<Real* [3], Kokkos::LayoutLeft, Kokkos::HostSpace>>());
+  check_rows_match_view_indexing<Kokkos::LayoutRight>();
+  check_rows_match_view_indexing<Kokkos::LayoutLeft>();
+}
+
+// minimum_image compares against a precomputed half box, infinite on open axes.
+TEST(Domain, MinimumImageWrapsPeriodicAxesOnlyAndIsOdd) {
+  const Domain d({0, 0, 0}, {1, 2, 4}, true, false, true);
+  const Vec3 far{0.7, 1.5, -3.0};
+  const Vec3 m = d.minimum_image(far);
+  EXPECT_DOUBLE_EQ(m.x, 0.7 - 1.0); // periodic, beyond half a box
+  EXPECT_EQ(m.y, 1.5);              // open axis: never wrapped, however far
+  EXPECT_DOUBLE_EQ(m.z, -3.0 + 4.0);
+  const Vec3 n = d.minimum_image(Vec3{-0.7, -1.5, 3.0});
+  EXPECT_EQ(n.x, -m.x);
+  EXPECT_EQ(n.y, -m.y);
+  EXPECT_EQ(n.z, -m.z);
+  const Vec3 near{0.4, 0.1, 1.9};
+  const Vec3 k = d.minimum_image(near);
+  EXPECT_EQ(k.x, near.x);
+  EXPECT_EQ(k.y, near.y);
+  EXPECT_EQ(k.z, near.z);
+  const Domain open; // default: no periodic axis
+  EXPECT_EQ(open.minimum_image(far).z, far.z);
 }
