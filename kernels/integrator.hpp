@@ -14,6 +14,18 @@ template <class ExecSpace>
 struct Integrator {
   using Mem = typename ExecSpace::memory_space;
 
+  // Half a step of particle i's forces on its velocities: both kicks use exactly this.
+  struct Velocities {
+    Vec3 v, w;
+  };
+  KOKKOS_INLINE_FUNCTION static Velocities half_kick(const ParticleStore<Mem>& p, int i, const Vec3& gravity,
+                                                     Real half) {
+    const Real inv_m = 1.0 / p.mass(i);
+    const Real inv_i = 1.0 / p.inertia(i);
+    return {load3(p.velocity, i) + half * (inv_m * load3(p.force, i) + gravity),
+            load3(p.angular_velocity, i) + (half * inv_i) * load3(p.torque, i)};
+  }
+
   static Real kick_drift(const ParticleStore<Mem>& p, const Domain& domain, const Vec3& gravity, Real dt,
                          int n) {
     Real max_disp2 = 0;
@@ -21,10 +33,7 @@ struct Integrator {
     Kokkos::parallel_reduce(
         "cgdem::kernels::kick_drift", Kokkos::RangePolicy<ExecSpace>(0, n),
         KOKKOS_LAMBDA(int i, Real& worst) {
-          const Real inv_m = 1.0 / p.mass(i);
-          const Real inv_i = 1.0 / p.inertia(i);
-          Vec3 v = load3(p.velocity, i) + half * (inv_m * load3(p.force, i) + gravity);
-          const Vec3 w = load3(p.angular_velocity, i) + (half * inv_i) * load3(p.torque, i);
+          const auto [v, w] = half_kick(p, i, gravity, half);
           const Vec3 x = domain.wrap(load3(p.position, i) + dt * v);
           store3(p.velocity, i, v);
           store3(p.angular_velocity, i, w);
@@ -42,10 +51,9 @@ struct Integrator {
     const Real half = 0.5 * dt;
     Kokkos::parallel_for(
         "cgdem::kernels::closing_kick", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          const Real inv_m = 1.0 / p.mass(i);
-          const Real inv_i = 1.0 / p.inertia(i);
-          store3(p.velocity, i, load3(p.velocity, i) + half * (inv_m * load3(p.force, i) + gravity));
-          store3(p.angular_velocity, i, load3(p.angular_velocity, i) + (half * inv_i) * load3(p.torque, i));
+          const auto [v, w] = half_kick(p, i, gravity, half);
+          store3(p.velocity, i, v);
+          store3(p.angular_velocity, i, w);
         });
   }
 };
