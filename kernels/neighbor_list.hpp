@@ -107,7 +107,7 @@ struct NeighborList {
         });
     const int total = counts_to_offsets(offs, n, "cgdem::kernels::nl_scan");
     num_slots = total;
-    if (static_cast<int>(neighbors.extent(0)) < total) reserve(capacity_for(total));
+    if (static_cast<int>(neighbors.extent(0)) < total + kSpareSlots) reserve(capacity_for(total));
     const auto neigh = neighbors;
     const auto hist = history;
     const auto c_offs = carry_offsets;
@@ -308,7 +308,11 @@ struct NeighborList {
   // changing scene is rebuilt in place, while the slot arrays (index and history, ~28 B per slot) stay
   // close to the count.
   // A list that outgrows it is reallocated at the next build, which refills every slot anyway.
+  // At least kSpareSlots beyond the last slot: the force pass reads the index two slots ahead without
+  // testing for the end (ContactForces, a prefetch hint).
+  static constexpr int kSpareSlots = 2;
   static int capacity_for(int slots) { return slots + slots / 16 + 64; }
+  static_assert(64 >= kSpareSlots, "capacity_for keeps the spare slots");
 
   // Room for `capacity` slots (growth only, never per step).
   void reserve(int capacity) {
