@@ -148,6 +148,53 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
   }
 }
 
+// The force pass branches per slot on touching; the build lists each particle's touching partners
+// first so that branch turns once per particle. The set must stay the brute-force one (test above); here:
+// the split, and the spare slots the force pass reads ahead into without a bounds test.
+TEST(NeighborList, ListsTouchingPartnersFirstAndKeepsSpareSlots) {
+  using Law = models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>;
+  using Exec = Kokkos::DefaultHostExecutionSpace;
+  const double box = 0.012, skin = 0.2e-3;
+  ParticleSet p = random_periodic(1500, box, 0.25e-3, 0.5e-3, 2500, 0, 3);
+  const int n = static_cast<int>(p.size());
+  const Domain domain({0, 0, 0}, {box, box, box}, true, true, true);
+  Kokkos::View<double* [3], Kokkos::HostSpace> x("x", n);
+  Kokkos::View<double*, Kokkos::HostSpace> r("r", n);
+  Kokkos::View<int*, Kokkos::HostSpace> identity("identity", n);
+  for (int i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a)
+      x(i, a) = p.position[i][a];
+    r(i) = 1.1 * p.radius[i]; // swollen by 10 %: a pack with touching and merely listed pairs
+    identity(i) = i;
+  }
+  const kernels::CellGrid grid(domain, 2 * 1.1 * 0.5e-3 + skin, 1L << 20);
+  kernels::CellBins<Exec> bins;
+  bins.build(grid, x, n);
+  kernels::NeighborList<Exec, Law> nl;
+  nl.build(domain, grid, bins, x, r, skin, n, identity, false);
+
+  auto touching = [&](int i, int j) {
+    const Vec3 d = domain.minimum_image(load3(x, j) - load3(x, i));
+    return norm2(d) < (r(i) + r(j)) * (r(i) + r(j));
+  };
+  int touching_slots = 0, particles_with_both = 0;
+  for (int i = 0; i < n; ++i) {
+    bool seen_far = false, seen_touching = false;
+    for (int s = nl.offsets(i); s < nl.offsets(i + 1); ++s) {
+      const bool t = touching(i, nl.neighbors(s));
+      ASSERT_FALSE(t && seen_far) << "particle " << i
+                                  << ": a touching partner listed after a non-touching one";
+      seen_far = seen_far || !t;
+      seen_touching = seen_touching || t;
+      touching_slots += t ? 1 : 0;
+    }
+    particles_with_both += seen_far && seen_touching ? 1 : 0;
+  }
+  EXPECT_GT(touching_slots, n / 4) << "the swollen pack should have many contacts";
+  EXPECT_GT(particles_with_both, n / 8) << "the split is only tested where a list has both kinds";
+  EXPECT_GE(static_cast<int>(nl.neighbors.extent(0)), nl.num_slots + nl.kSpareSlots);
+}
+
 TEST(ContactHistory, TangentialSpringSurvivesForcedRebuildAndReorder) {
   // A dense, sheared frictional box: many sustained sliding contacts. Rebuilding and reordering must
   // carry every (i, j) history entry over unchanged, so the next forces equal those without a rebuild.
