@@ -38,6 +38,24 @@ struct Domain {
             wrap_axis(x.z, lo.z, hi.z, length.z, periodic[2])};
   }
 
+  // The box shrunk by `range` from both faces of each periodic axis (the open axes whole): a particle in
+  // it sees every partner closer than `range` at that partner's stored position, so their separation
+  // needs no minimum image (stored positions are wrapped into [lo, hi); range < half the box).
+  struct Interior {
+    Vec3 lo, hi;
+    KOKKOS_INLINE_FUNCTION bool contains(const Vec3& x) const {
+      return x.x >= lo.x && x.x < hi.x && x.y >= lo.y && x.y < hi.y && x.z >= lo.z && x.z < hi.z;
+    }
+  };
+  Interior interior(Real range) const {
+    const Real inf = std::numeric_limits<Real>::infinity();
+    Interior box{{-inf, -inf, -inf}, {inf, inf, inf}};
+    if (periodic[0]) box.lo.x = lo.x + range, box.hi.x = hi.x - range;
+    if (periodic[1]) box.lo.y = lo.y + range, box.hi.y = hi.y - range;
+    if (periodic[2]) box.lo.z = lo.z + range, box.hi.z = hi.z - range;
+    return box;
+  }
+
 private:
   KOKKOS_INLINE_FUNCTION static Real nearest_image(Real d, Real length, Real half) {
     if (d > half) return d - length;

@@ -25,11 +25,12 @@ struct ContactForces {
   // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
   // the force each particle feels from each wall part is stored there too (for the wall reductions).
   template <class NeighborListT>
-  static void
-  compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
-          const ParamTable& pair_params, const ParamTable& wall_params, const Kokkos::View<Wall*, Mem>& walls,
-          const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
-          const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach, Law law, int n) {
+  static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
+                      const ParamTable& pair_params, const ParamTable& wall_params,
+                      const Kokkos::View<Wall*, Mem>& walls,
+                      const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
+                      const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach,
+                      Real max_radius, Law law, int n) {
     const int nwalls = static_cast<int>(walls.extent(0));
     const bool record_wall_force = wall_force.extent(0) > 0;
     const auto offsets = nl.offsets;
@@ -40,6 +41,10 @@ struct ContactForces {
     auto history_row = [=] KOKKOS_FUNCTION(int s) {
       return history.data() + static_cast<std::size_t>(s) * H;
     };
+    // Particles farther than any pair can interact (2 R_max + reach, a hair more for rounding) from the
+    // periodic faces: their partners within reach are stored on the same side of every seam, so the
+    // separation is the plain difference, the one minimum_image would return. Most of a periodic bed.
+    const Domain::Interior interior = domain.interior((2 * max_radius + reach) * (1 + 1e-9));
     const auto block_offsets = nl.block_offsets;
     const auto block_members = nl.block_members;
 
@@ -61,6 +66,7 @@ struct ContactForces {
       const int mat_i = p.material(i);
       const Real vol_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
       const Real scale_i = p.scale_factor(i);
+      const bool near_seam = !interior.contains(xi);
       Vec3 f, t;
       int contacts = 0, wall_contacts = 0;
       Real h[H > 0 ? H : 1];
@@ -84,7 +90,9 @@ struct ContactForces {
         math::prefetch(row3(p.force, ahead));
         math::prefetch(row3(p.torque, ahead));
         const Real rj = p.radius(j);
-        const Vec3 d = domain.minimum_image(load3(p.position, j) - xi);
+        // Far from a seam, a partner whose plain separation is off by a box is beyond reach either way.
+        const Vec3 stored = load3(p.position, j) - xi;
+        const Vec3 d = near_seam ? domain.minimum_image(stored) : stored;
         const Real dist2 = norm2(d);
         const Real touch = ri + rj;
         const Real reach_ij = touch + reach;

@@ -34,6 +34,7 @@ public:
     Real rmax = 0;
     for (double r : cfg.particles.radius)
       rmax = std::max<Real>(rmax, r);
+    max_radius_ = rmax;
     // The longest interaction range of this law over all material pairs (adhesion, bridges) widens
     // the neighbour cut-off; the force kernel uses it to skip pairs quickly.
     cfg_.reach = 0;
@@ -151,6 +152,7 @@ private:
   Kokkos::View<int*, Mem> identity_;
   Kokkos::View<int*, Mem> old_index_; // new -> old index of the last reorder (history transfer)
   Real cutoff_extra_ = 0;
+  Real max_radius_ = 0; // of the particles now in the store (the force pass's seam test)
   long builds_ = 0;
   long step_ = 0;
   double time_ = 0;

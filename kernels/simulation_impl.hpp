@@ -105,7 +105,8 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces) {
   Kokkos::View<Real* [3], Mem> record;
   if (record_wall_forces) record = wall_force_record_;
   ContactForces<ExecSpace, Law>::compute(store_, nl_, cfg_.domain, pair_params_, wall_params_, walls_,
-                                         wall_history_, record, time_, cfg_.dt, cfg_.reach, Law{}, n_);
+                                         wall_history_, record, time_, cfg_.dt, cfg_.reach, max_radius_,
+                                         Law{}, n_);
   Kokkos::fence();
   timers_.forces += timer.seconds();
 }
@@ -365,6 +366,9 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   detail::from_vector(store_.torque, need(c.reals, "torque"), "torque");
   detail::from_vector(store_.position_at_build, need(c.reals, "position_at_build"), "position_at_build");
   detail::from_vector(store_.radius, need(c.reals, "radius"), "radius");
+  max_radius_ = 0;
+  for (double r : need(c.reals, "radius"))
+    max_radius_ = std::max<Real>(max_radius_, r);
   detail::from_vector(store_.mass, need(c.reals, "mass"), "mass");
   detail::from_vector(store_.inertia, need(c.reals, "inertia"), "inertia");
   detail::from_vector(store_.scale_factor, need(c.reals, "scale_factor"), "scale_factor");

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <map>
+#include <random>
 #include <set>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
@@ -346,4 +347,36 @@ TEST(Domain, MinimumImageWrapsPeriodicAxesOnlyAndIsOdd) {
   EXPECT_EQ(k.z, near.z);
   const Domain open; // default: no periodic axis
   EXPECT_EQ(open.minimum_image(far).z, far.z);
+}
+
+// The force pass skips minimum_image for particles in Domain::interior(range): there, every partner
+// closer than `range` (wrapped into the box like the store's positions) must have its plain separation
+// equal to the minimum image bitwise; and the interior must leave out exactly the seam bands.
+TEST(Domain, InteriorParticlesSeeCloserPartnersWithoutMinimumImage) {
+  const Domain d({-0.01, 0, 0}, {0.02, 0.03, 0.05}, true, true, false);
+  const double range = 0.004;
+  const Domain::Interior in = d.interior(range);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  int interior = 0, partners = 0;
+  for (int k = 0; k < 20000; ++k) {
+    const Vec3 xi{d.lo.x + u(rng) * d.length.x, d.lo.y + u(rng) * d.length.y, d.lo.z + u(rng) * d.length.z};
+    const bool near_face =
+        xi.x < d.lo.x + range || xi.x >= d.hi.x - range || xi.y < d.lo.y + range || xi.y >= d.hi.y - range;
+    ASSERT_EQ(in.contains(xi), !near_face) << "only the periodic faces' bands are outside (z is open)";
+    if (!in.contains(xi)) continue;
+    ++interior;
+    for (int m = 0; m < 8; ++m) {
+      Vec3 step{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5};
+      step = (range * 0.999 * u(rng) / norm(step)) * step;
+      const Vec3 xj = d.wrap(xi + step);
+      const Vec3 plain = xj - xi, image = d.minimum_image(plain);
+      ASSERT_EQ(plain.x, image.x);
+      ASSERT_EQ(plain.y, image.y);
+      ASSERT_EQ(plain.z, image.z);
+      ++partners;
+    }
+  }
+  EXPECT_GT(interior, 5000);
+  EXPECT_GT(partners, 40000);
 }
