@@ -30,12 +30,16 @@ struct ContactForces {
                       const Kokkos::View<Wall*, Mem>& walls,
                       const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
                       const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach,
-                      Real max_radius, Law law, int n) {
+                      Real max_radius, Real max_displacement, Law law, int n) {
     const int nwalls = static_cast<int>(walls.extent(0));
     const bool record_wall_force = wall_force.extent(0) > 0;
     const auto offsets = nl.offsets;
     const auto neighbors = nl.neighbors;
     const auto history = nl.history;
+    const auto gaps = nl.gap;
+    // No particle moved more than max_displacement since the build: a slot whose gap at the build is
+    // larger than twice that is still beyond reach, and so are the slots after it (NeighborList::gap).
+    const Real skip_beyond = 2 * max_displacement * (1 + 1e-6);
     // A slot's history row, H apart (like load3, without the View's runtime stride).
     KOKKOS_ASSERT(H == 0 || history.stride(0) == static_cast<std::size_t>(H));
     auto history_row = [=] KOKKOS_FUNCTION(int s) {
@@ -73,6 +77,7 @@ struct ContactForces {
 
       const int slot_end = offsets(i + 1);
       for (int s = offsets(i); s < slot_end; ++s) {
+        if (gaps(s) > skip_beyond) break;
         const int j = neighbors(s);
         // The partner two slots ahead: its position, velocities, radius, mass, and the force and torque
         // the reaction is added to, are seven scattered cache lines, and one contact's ~500 instructions

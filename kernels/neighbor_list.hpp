@@ -11,6 +11,7 @@
 // contacts), not the whole previous list: that would double the list's memory for the step of a rebuild.
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
+#include "core/particle_store.hpp"
 #include "kernels/cell_grid.hpp"
 
 namespace cgdem::kernels {
@@ -24,6 +25,13 @@ struct NeighborList {
   Kokkos::View<int*, Mem> offsets;         // n + 1
   Kokkos::View<int*, Mem> neighbors;       // capacity >= offsets(n); every entry > its owner's index
   HistoryView history;                     // capacity x H (no columns, no storage, when the law keeps none)
+  // Per slot, how far the pair was beyond the law's reach at the build (surface gap minus reach, rounded
+  // down), or -1 for a pair within reach then. Two particles that each moved at most D since the build
+  // come no closer than that gap - 2 D: while it stays positive the pair exerts nothing and its history
+  // stays zero, so the force pass skips it (kernels/contact_forces.hpp). Each particle's slots are
+  // ordered touching first, then within reach, then beyond reach by increasing gap, so the force pass
+  // stops at the first slot it may skip.
+  Kokkos::View<float*, Mem> gap;
   // The force pass's colouring (build_blocks): blocks of cells, listed colour by colour, and their
   // particles in cell order.
   static constexpr int kColours = 4;
@@ -41,14 +49,14 @@ struct NeighborList {
     return (offsets.span() + neighbors.span() + block_offsets.span() + block_members.span() +
             carry_offsets.span() + carry_partner.span()) *
                sizeof(int) +
-           (history.span() + carry_history.span()) * sizeof(ForceReal);
+           gap.span() * sizeof(float) + (history.span() + carry_history.span()) * sizeof(ForceReal);
   }
 
   // Build from bins whose `order` lists the particles by cell. `old_index(i)` maps a particle's current
   // index to its index when the previous list was built (identity without a reorder).
   template <class PositionView, class RadiusView, class OldIndexView>
   void build(const Domain& domain, const CellGrid& grid, const CellBins<ExecSpace>& bins,
-             const PositionView& position, const RadiusView& radius, Real extra_cutoff, int n,
+             const PositionView& position, const RadiusView& radius, Real extra_cutoff, Real reach, int n,
              const OldIndexView& old_index, bool have_old) {
     if constexpr (H > 0)
       if (have_old) carry_nonzero_history(n);
@@ -61,8 +69,8 @@ struct NeighborList {
     const auto offs = offsets;
 
     // Visit the partners j > i of particle i in deterministic order (27 stencil cells in fixed order,
-    // a cell's particles in sorted order); f(j, touching) is called for partners inside
-    // R_i + R_j + extra_cutoff, touching when their surfaces overlap now.
+    // a cell's particles in sorted order); f(j, dist2) is called for partners inside R_i + R_j +
+    // extra_cutoff, with their squared separation (as the force pass computes it).
     auto visit = [=] KOKKOS_FUNCTION(int i, auto&& f) {
       const Vec3 xi{position(i, 0), position(i, 1), position(i, 2)};
       const Real ri = radius(i);
@@ -92,8 +100,8 @@ struct NeighborList {
               const int j = order(k);
               if (j <= i) continue;
               const Vec3 d = domain.minimum_image(Vec3{position(j, 0), position(j, 1), position(j, 2)} - xi);
-              const Real touch = ri + radius(j), cut = touch + extra_cutoff, dist2 = norm2(d);
-              if (dist2 < cut * cut) f(j, dist2 < touch * touch);
+              const Real cut = ri + radius(j) + extra_cutoff, dist2 = norm2(d);
+              if (dist2 < cut * cut) f(j, dist2);
             }
           }
         }
@@ -103,7 +111,7 @@ struct NeighborList {
     Kokkos::parallel_for(
         "cgdem::kernels::nl_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           int cnt = 0;
-          visit(i, [&](int, bool) { ++cnt; });
+          visit(i, [&](int, Real) { ++cnt; });
           offs(i + 1) = cnt;
         });
     const int total = counts_to_offsets(offs, n, "cgdem::kernels::nl_scan");
@@ -114,22 +122,45 @@ struct NeighborList {
     const auto c_offs = carry_offsets;
     const auto c_partner = carry_partner;
     const auto c_hist = carry_history;
+    const auto gaps = gap;
     Kokkos::parallel_for(
         "cgdem::kernels::nl_fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           // The pairs touching now first, then the others, each in visiting order: the force pass
           // branches on touching per slot, and T..TN..N costs one mispredicted branch per particle where
           // the visiting order's mix costs about one per touching pair (contacts outlive a build).
           int front = offs(i), back = offs(i + 1);
-          visit(i, [&](int j, bool touching) {
-            if (touching)
+          const Real ri = radius(i);
+          visit(i, [&](int j, Real dist2) {
+            const Real touch = ri + radius(j);
+            const float g = gap_beyond_reach(dist2, touch + reach);
+            if (dist2 < touch * touch) {
+              gaps(front) = g;
               neigh(front++) = j;
-            else
-              neigh(--back) = j;
+            } else {
+              gaps(--back) = g;
+              neigh(back) = j;
+            }
           });
           for (int a = front, b = offs(i + 1) - 1; a < b; ++a, --b) { // the others back in visiting order
             const int t = neigh(a);
             neigh(a) = neigh(b);
             neigh(b) = t;
+            const float tg = gaps(a);
+            gaps(a) = gaps(b);
+            gaps(b) = tg;
+          }
+          // Then the others within reach (gap -1) before those beyond, by increasing gap; stable, so that
+          // equal gaps keep the visiting order.
+          for (int a = front + 1; a < offs(i + 1); ++a) {
+            const int j = neigh(a);
+            const float g = gaps(a);
+            int b = a;
+            for (; b > front && gaps(b - 1) > g; --b) {
+              neigh(b) = neigh(b - 1);
+              gaps(b) = gaps(b - 1);
+            }
+            neigh(b) = j;
+            gaps(b) = g;
           }
           if constexpr (H > 0) {
             // Carry each pair's history over from the previous list, where the pair was kept under the
@@ -146,6 +177,8 @@ struct NeighborList {
                     found = t;
                     break;
                   }
+              // A pair beyond reach now starts over, as the force pass would make it on this step.
+              if (gaps(s) >= 0) found = -1;
               Real h[H];
               for (int k = 0; k < H; ++k)
                 h[k] = found >= 0 ? c_hist(found, k) : 0;
@@ -156,6 +189,35 @@ struct NeighborList {
           }
         });
     build_blocks(domain, grid, bins, n);
+  }
+
+  // The slot's gap (see `gap`) from the pair's squared separation at the build and R_i + R_j + reach:
+  // rounded down (float, and 1e-6 of it less, 1e-12 of the reach distance less), so that skipping
+  // while gap > 2 D never skips a pair the exact test would find within reach. A coincident pair
+  // (separation 0, which the force pass treats as beyond reach) is never skipped.
+  KOKKOS_INLINE_FUNCTION static float gap_beyond_reach(Real dist2, Real reach_ij) {
+    if (dist2 < reach_ij * reach_ij || dist2 == 0) return -1;
+    const Real g = (math::sqrt(dist2) - reach_ij - 1e-12 * reach_ij) * (1 - 1e-6);
+    return g > 0 ? static_cast<float>(g) : 0.0f;
+  }
+
+  // The gaps of the slots as they are (a restored list) from the positions at its build.
+  template <class PositionView, class RadiusView>
+  void compute_gaps(const Domain& domain, const PositionView& position, const RadiusView& radius, Real reach,
+                    int n) {
+    const auto offs = offsets;
+    const auto neigh = neighbors;
+    const auto gaps = gap;
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_gaps", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          const Vec3 xi = load3(position, i);
+          for (int s = offs(i); s < offs(i + 1); ++s) {
+            const int j = neigh(s);
+            const Real dist2 = norm2(domain.minimum_image(load3(position, j) - xi));
+            gaps(s) = gap_beyond_reach(dist2, radius(i) + radius(j) + reach);
+          }
+        });
+    Kokkos::fence();
   }
 
   // CSR offsets in place: counts(i + 1) holds the count of row i (counts(0) is ignored); afterwards
@@ -335,6 +397,7 @@ struct NeighborList {
       HistoryView grown_history("cgdem::kernels::nl_history", H > 0 ? capacity : 0, H);
       neighbors = grown;
       history = grown_history;
+      gap = Kokkos::View<float*, Mem>("cgdem::kernels::nl_gap", capacity);
     }
   }
 };

@@ -71,7 +71,8 @@ public:
       timers_.integrate += timer.seconds();
       if (!(max_d2 < Kokkos::Experimental::infinity<Real>::value))
         throw BlowUpError(diagnose("a position or velocity became NaN or Inf"));
-      if (4 * max_d2 > cfg_.skin * cfg_.skin) rebuild(false);
+      displacement_since_build_ = std::sqrt(max_d2);
+      if (4 * max_d2 > cfg_.skin * cfg_.skin) rebuild(false); // sets it to 0
       ++step_;
       time_ = step_ * cfg_.dt; // not accumulated: a restart reproduces it bitwise
       compute_forces(s == steps - 1);
@@ -153,6 +154,9 @@ private:
   Kokkos::View<int*, Mem> old_index_; // new -> old index of the last reorder (history transfer)
   Real cutoff_extra_ = 0;
   Real max_radius_ = 0; // of the particles now in the store (the force pass's seam test)
+  // The largest displacement of a particle since the list was built (the force pass skips pairs still
+  // beyond reach, NeighborList::gap).
+  Real displacement_since_build_ = 0;
   long builds_ = 0;
   long step_ = 0;
   double time_ = 0;

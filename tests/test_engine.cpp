@@ -2,12 +2,16 @@
 // across rebuilds and reorders, momentum and energy conservation in closed periodic boxes.
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <limits>
+#include <cmath>
 #include <map>
 #include <random>
 #include <set>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
 #include "kernels/neighbor_list.hpp"
+#include "core/materials.hpp"
+#include "kernels/contact_forces.hpp"
 #include "models/hertz_tsuji.hpp"
 #include "models/mindlin_tangential.hpp"
 #include "tests/test_support.hpp"
@@ -116,7 +120,7 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
     kernels::CellBins<Exec> bins;
     bins.build(grid, x, n);
     kernels::NeighborList<Exec, Law> nl;
-    nl.build(domain, grid, bins, x, r, skin, n, identity, false);
+    nl.build(domain, grid, bins, x, r, skin, 0.0, n, identity, false);
 
     int blocks_with_particles = 0;
     std::vector<int> block_of(n, -1);
@@ -172,7 +176,7 @@ TEST(NeighborList, ListsTouchingPartnersFirstAndKeepsSpareSlots) {
   kernels::CellBins<Exec> bins;
   bins.build(grid, x, n);
   kernels::NeighborList<Exec, Law> nl;
-  nl.build(domain, grid, bins, x, r, skin, n, identity, false);
+  nl.build(domain, grid, bins, x, r, skin, 0.0, n, identity, false);
 
   auto touching = [&](int i, int j) {
     const Vec3 d = domain.minimum_image(load3(x, j) - load3(x, i));
@@ -194,6 +198,115 @@ TEST(NeighborList, ListsTouchingPartnersFirstAndKeepsSpareSlots) {
   EXPECT_GT(touching_slots, n / 4) << "the swollen pack should have many contacts";
   EXPECT_GT(particles_with_both, n / 8) << "the split is only tested where a list has both kinds";
   EXPECT_GE(static_cast<int>(nl.neighbors.extent(0)), nl.num_slots + nl.kSpareSlots);
+}
+
+// The force pass skips the slots whose gap at the build exceeds twice the largest displacement since
+// (NeighborList::gap). Exact by construction: after every particle moved by up to D (up to half the skin,
+// as between two builds), forces, torques, contact counts and histories with the skip equal those of
+// the same pass told nothing may be skipped (D infinite), bitwise; and the gaps are sorted and never
+// above the true gap.
+TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
+  using Law = models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>;
+  using Exec = Kokkos::DefaultHostExecutionSpace;
+  using Mem = Kokkos::HostSpace;
+  const double box = 0.012, skin = 0.2e-3;
+  ParticleSet ps = random_periodic(1500, box, 0.25e-3, 0.5e-3, 2500, 0.5, 11);
+  const int n = static_cast<int>(ps.size());
+  const Domain domain({0, 0, 0}, {box, box, box}, true, true, true);
+  ParticleStore<Mem> p(n);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double rmax = 0;
+  for (int i = 0; i < n; ++i) {
+    const double r = 1.1 * ps.radius[i]; // swollen: contacts and near misses
+    rmax = std::max(rmax, r);
+    p.radius(i) = r;
+    p.mass(i) = 2500 * 4.0 / 3.0 * M_PI * r * r * r;
+    p.inertia(i) = 0.4 * p.mass(i) * r * r;
+    p.scale_factor(i) = 1;
+    for (int a = 0; a < 3; ++a) {
+      p.position(i, a) = ps.position[i][a];
+      p.velocity(i, a) = u(rng);
+      p.angular_velocity(i, a) = 100 * u(rng);
+    }
+  }
+  Kokkos::View<int*, Mem> identity("identity", n);
+  for (int i = 0; i < n; ++i)
+    identity(i) = i;
+  const kernels::CellGrid grid(domain, 2 * rmax + skin, 1L << 20);
+  kernels::CellBins<Exec> bins;
+  bins.build(grid, p.position, n);
+  kernels::NeighborList<Exec, Law> nl;
+  nl.build(domain, grid, bins, p.position, p.radius, skin, 0.0, n, identity, false);
+  Kokkos::deep_copy(p.position_at_build, p.position);
+
+  // Gaps: -1 within reach, then non-decreasing, and never above the true gap.
+  int beyond = 0;
+  for (int i = 0; i < n; ++i)
+    for (int s = nl.offsets(i); s < nl.offsets(i + 1); ++s) {
+      const int j = nl.neighbors(s);
+      const double dist = norm(domain.minimum_image(load3(p.position, j) - load3(p.position, i)));
+      const double g = dist - p.radius(i) - p.radius(j);
+      if (g < 0) {
+        ASSERT_EQ(nl.gap(s), -1.0f);
+        continue;
+      }
+      ++beyond;
+      ASSERT_LE(nl.gap(s), g);
+      ASSERT_GE(nl.gap(s), 0.999 * g - 1e-15);
+      if (s > nl.offsets(i)) ASSERT_LE(nl.gap(s - 1), nl.gap(s)) << "slots beyond reach sorted by gap";
+    }
+  EXPECT_GT(beyond, n);
+
+  // Every particle moves by up to D, in a random direction.
+  const double D = 0.5 * skin;
+  double moved = 0;
+  for (int i = 0; i < n; ++i) {
+    Vec3 step{u(rng), u(rng), u(rng)};
+    step = (D * std::abs(u(rng)) / norm(step)) * step;
+    store3(p.position, i, domain.wrap(load3(p.position, i) + step));
+    moved = std::max(moved, norm(domain.minimum_image(load3(p.position, i) - load3(p.position_at_build, i))));
+  }
+  const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.9, 0.3);
+  Kokkos::View<models::PairParameters**, Mem> params("params", 1, 1);
+  params(0, 0) = mix_pair(m, m, false);
+  Kokkos::View<Wall*, Mem> walls("walls", 0);
+  Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history("wall_history", n, 0);
+  Kokkos::View<Real* [3], Mem> no_record("no_record", 0);
+  Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> history0("history0", nl.history.extent(0), 3);
+  Kokkos::deep_copy(history0, nl.history);
+  // A history the pass must carry (or zero, for pairs now apart): random on every slot within reach.
+  for (int i = 0; i < n; ++i)
+    for (int s = nl.offsets(i); s < nl.offsets(i + 1); ++s)
+      if (nl.gap(s) < 0)
+        for (int k = 0; k < 3; ++k)
+          history0(s, k) = 1e-6 * u(rng);
+
+  auto pass = [&](double max_displacement) {
+    Kokkos::deep_copy(nl.history, history0);
+    kernels::ContactForces<Exec, Law>::compute(p, nl, domain, params, params, walls, wall_history, no_record,
+                                               0.0, 1e-6, 0.0, rmax, max_displacement, Law{}, n);
+    std::vector<double> out;
+    for (int i = 0; i < n; ++i) {
+      for (int a = 0; a < 3; ++a) {
+        out.push_back(p.force(i, a));
+        out.push_back(p.torque(i, a));
+      }
+      out.push_back(p.contacts(i));
+    }
+    for (std::size_t k = 0; k < nl.history.span(); ++k)
+      out.push_back(nl.history.data()[k]);
+    return out;
+  };
+  const std::vector<double> skipping = pass(moved),
+                            exhaustive = pass(std::numeric_limits<double>::infinity());
+  ASSERT_EQ(skipping.size(), exhaustive.size());
+  int contacts = 0;
+  for (int i = 0; i < n; ++i)
+    contacts += p.contacts(i);
+  EXPECT_GT(contacts, n / 2);
+  for (std::size_t k = 0; k < skipping.size(); ++k)
+    ASSERT_EQ(skipping[k], exhaustive[k]) << "entry " << k;
 }
 
 TEST(ContactHistory, TangentialSpringSurvivesForcedRebuildAndReorder) {
