@@ -125,9 +125,9 @@ struct NeighborList {
     const auto gaps = gap;
     Kokkos::parallel_for(
         "cgdem::kernels::nl_fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          // The pairs touching now first, then the others, each in visiting order: the force pass
-          // branches on touching per slot, and T..TN..N costs one mispredicted branch per particle where
-          // the visiting order's mix costs about one per touching pair (contacts outlive a build).
+          // The pairs touching now first, in visiting order: the force pass branches on touching per
+          // slot, and T..TN..N costs one mispredicted branch per particle where the visiting order's mix
+          // costs about one per touching pair (contacts outlive a build). The others follow, ordered below.
           int front = offs(i), back = offs(i + 1);
           const Real ri = radius(i);
           visit(i, [&](int j, Real dist2) {
@@ -201,7 +201,9 @@ struct NeighborList {
     return g > 0 ? static_cast<float>(g) : 0.0f;
   }
 
-  // The gaps of the slots as they are (a restored list) from the positions at its build.
+  // The gaps of the slots as they are (a restored list) from the positions at its build. A particle
+  // whose slots are not in the order the force pass stops on (a list written by an older version) gets
+  // -1 on all of them: never skipped, so the restored run stays right, only slower until the next build.
   template <class PositionView, class RadiusView>
   void compute_gaps(const Domain& domain, const PositionView& position, const RadiusView& radius, Real reach,
                     int n) {
@@ -211,11 +213,16 @@ struct NeighborList {
     Kokkos::parallel_for(
         "cgdem::kernels::nl_gaps", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           const Vec3 xi = load3(position, i);
+          bool ordered = true;
           for (int s = offs(i); s < offs(i + 1); ++s) {
             const int j = neigh(s);
             const Real dist2 = norm2(domain.minimum_image(load3(position, j) - xi));
             gaps(s) = gap_beyond_reach(dist2, radius(i) + radius(j) + reach);
+            if (s > offs(i) && gaps(s) < gaps(s - 1)) ordered = false;
           }
+          if (!ordered)
+            for (int s = offs(i); s < offs(i + 1); ++s)
+              gaps(s) = -1;
         });
     Kokkos::fence();
   }

@@ -307,6 +307,22 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   EXPECT_GT(contacts, n / 2);
   for (std::size_t k = 0; k < skipping.size(); ++k)
     ASSERT_EQ(skipping[k], exhaustive[k]) << "entry " << k;
+
+  // A restored list gets its gaps from the positions at the build; a particle whose slots are not in the
+  // order the pass stops on (an older checkpoint) must never be skipped.
+  std::vector<float> built(nl.gap.data(), nl.gap.data() + nl.num_slots);
+  int shuffled = -1;
+  for (int i = 0; i < n && shuffled < 0; ++i)
+    if (nl.offsets(i + 1) - nl.offsets(i) >= 2 && nl.gap(nl.offsets(i + 1) - 1) > 0) shuffled = i;
+  ASSERT_GE(shuffled, 0);
+  std::reverse(nl.neighbors.data() + nl.offsets(shuffled), nl.neighbors.data() + nl.offsets(shuffled + 1));
+  nl.compute_gaps(domain, p.position_at_build, p.radius, 0.0, n);
+  for (int i = 0; i < n; ++i)
+    for (int s = nl.offsets(i); s < nl.offsets(i + 1); ++s)
+      if (i == shuffled)
+        ASSERT_EQ(nl.gap(s), -1.0f) << "slot " << s << " of the reordered particle";
+      else
+        ASSERT_EQ(nl.gap(s), built[s]) << "slot " << s;
 }
 
 TEST(ContactHistory, TangentialSpringSurvivesForcedRebuildAndReorder) {
