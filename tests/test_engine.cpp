@@ -69,6 +69,35 @@ std::map<std::int64_t, std::set<std::int64_t>> brute_force(const CheckpointData&
   return out;
 }
 
+using ListLaw = models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>;
+using HostExec = Kokkos::DefaultHostExecutionSpace;
+
+// A half list built directly (no engine) over a particle set whose radii are scaled by `swell`, with
+// cells for radii up to swell x rmax.
+struct BuiltList {
+  Kokkos::View<double* [3], Kokkos::HostSpace> x;
+  Kokkos::View<double*, Kokkos::HostSpace> r;
+  kernels::NeighborList<HostExec, ListLaw> nl;
+};
+BuiltList build_list(const ParticleSet& p, const Domain& domain, double skin, double swell, double rmax) {
+  const int n = static_cast<int>(p.size());
+  BuiltList b{Kokkos::View<double* [3], Kokkos::HostSpace>("x", n),
+              Kokkos::View<double*, Kokkos::HostSpace>("r", n),
+              {}};
+  Kokkos::View<int*, Kokkos::HostSpace> identity("identity", n);
+  for (int i = 0; i < n; ++i) {
+    for (int a = 0; a < 3; ++a)
+      b.x(i, a) = p.position[i][a];
+    b.r(i) = swell * p.radius[i];
+    identity(i) = i;
+  }
+  const kernels::CellGrid grid(domain, 2 * swell * rmax + skin, 1L << 20);
+  kernels::CellBins<HostExec> bins;
+  bins.build(grid, b.x, n);
+  b.nl.build(domain, grid, bins, b.x, b.r, skin, 0.0, n, identity, false);
+  return b;
+}
+
 } // namespace
 
 TEST(NeighborList, EqualsBruteForceOnPolydispersePeriodicPacksAlsoAfterReorder) {
@@ -93,8 +122,6 @@ TEST(NeighborList, EqualsBruteForceOnPolydispersePeriodicPacksAlsoAfterReorder) 
 // evenly into strips: periodic on every axis (strips must pair up across the seam), open in z, and a
 // tall open column where the occupied range decides the strips.
 TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
-  using Law = models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>;
-  using Exec = Kokkos::DefaultHostExecutionSpace;
   struct Case {
     double box;
     bool periodic_z;
@@ -106,21 +133,8 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
       x[2] *= c.fill_height;
     const int n = static_cast<int>(p.size());
     const Domain domain({0, 0, 0}, {c.box, c.box, c.box}, true, true, c.periodic_z);
-    const double skin = 0.1e-3;
-    Kokkos::View<double* [3], Kokkos::HostSpace> x("x", n);
-    Kokkos::View<double*, Kokkos::HostSpace> r("r", n);
-    Kokkos::View<int*, Kokkos::HostSpace> identity("identity", n);
-    for (int i = 0; i < n; ++i) {
-      for (int a = 0; a < 3; ++a)
-        x(i, a) = p.position[i][a];
-      r(i) = p.radius[i];
-      identity(i) = i;
-    }
-    const kernels::CellGrid grid(domain, 2 * 0.5e-3 + skin, 1L << 20);
-    kernels::CellBins<Exec> bins;
-    bins.build(grid, x, n);
-    kernels::NeighborList<Exec, Law> nl;
-    nl.build(domain, grid, bins, x, r, skin, 0.0, n, identity, false);
+    const BuiltList built = build_list(p, domain, 0.1e-3, 1.0, 0.5e-3);
+    const auto& nl = built.nl;
 
     int blocks_with_particles = 0;
     std::vector<int> block_of(n, -1);
@@ -157,26 +171,15 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
 // first so that branch turns once per particle. The set must stay the brute-force one (test above); here:
 // the split, and the spare slots the force pass reads ahead into without a bounds test.
 TEST(NeighborList, ListsTouchingPartnersFirstAndKeepsSpareSlots) {
-  using Law = models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>;
-  using Exec = Kokkos::DefaultHostExecutionSpace;
-  const double box = 0.012, skin = 0.2e-3;
+  const double box = 0.012;
   ParticleSet p = random_periodic(1500, box, 0.25e-3, 0.5e-3, 2500, 0, 3);
   const int n = static_cast<int>(p.size());
   const Domain domain({0, 0, 0}, {box, box, box}, true, true, true);
-  Kokkos::View<double* [3], Kokkos::HostSpace> x("x", n);
-  Kokkos::View<double*, Kokkos::HostSpace> r("r", n);
-  Kokkos::View<int*, Kokkos::HostSpace> identity("identity", n);
-  for (int i = 0; i < n; ++i) {
-    for (int a = 0; a < 3; ++a)
-      x(i, a) = p.position[i][a];
-    r(i) = 1.1 * p.radius[i]; // swollen by 10 %: a pack with touching and merely listed pairs
-    identity(i) = i;
-  }
-  const kernels::CellGrid grid(domain, 2 * 1.1 * 0.5e-3 + skin, 1L << 20);
-  kernels::CellBins<Exec> bins;
-  bins.build(grid, x, n);
-  kernels::NeighborList<Exec, Law> nl;
-  nl.build(domain, grid, bins, x, r, skin, 0.0, n, identity, false);
+  // Radii swollen by 10 %: a pack with touching and merely listed pairs.
+  const BuiltList built = build_list(p, domain, 0.2e-3, 1.1, 0.5e-3);
+  const auto& nl = built.nl;
+  const auto& x = built.x;
+  const auto& r = built.r;
 
   auto touching = [&](int i, int j) {
     const Vec3 d = domain.minimum_image(load3(x, j) - load3(x, i));
@@ -206,8 +209,6 @@ TEST(NeighborList, ListsTouchingPartnersFirstAndKeepsSpareSlots) {
 // the same pass told nothing may be skipped (D infinite), bitwise; and the gaps are sorted and never
 // above the true gap.
 TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
-  using Law = models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>;
-  using Exec = Kokkos::DefaultHostExecutionSpace;
   using Mem = Kokkos::HostSpace;
   const double box = 0.012, skin = 0.2e-3;
   ParticleSet ps = random_periodic(1500, box, 0.25e-3, 0.5e-3, 2500, 0.5, 11);
@@ -234,9 +235,9 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   for (int i = 0; i < n; ++i)
     identity(i) = i;
   const kernels::CellGrid grid(domain, 2 * rmax + skin, 1L << 20);
-  kernels::CellBins<Exec> bins;
+  kernels::CellBins<HostExec> bins;
   bins.build(grid, p.position, n);
-  kernels::NeighborList<Exec, Law> nl;
+  kernels::NeighborList<HostExec, ListLaw> nl;
   nl.build(domain, grid, bins, p.position, p.radius, skin, 0.0, n, identity, false);
   Kokkos::deep_copy(p.position_at_build, p.position);
 
@@ -284,8 +285,9 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
 
   auto pass = [&](double max_displacement) {
     Kokkos::deep_copy(nl.history, history0);
-    kernels::ContactForces<Exec, Law>::compute(p, nl, domain, params, params, walls, wall_history, no_record,
-                                               0.0, 1e-6, 0.0, rmax, max_displacement, Law{}, n);
+    kernels::ContactForces<HostExec, ListLaw>::compute(p, nl, domain, params, params, walls, wall_history,
+                                                       no_record, 0.0, 1e-6, 0.0, rmax, max_displacement,
+                                                       ListLaw{}, n);
     std::vector<double> out;
     for (int i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) {
