@@ -45,49 +45,79 @@ struct Wall {
   }
 };
 
+// A wall part at one instant: where its base is and how its surface moves. The force pass places every
+// wall once per step (Wall::at) instead of once per particle: summing the motion segments was about a
+// third of a far particle's wall test.
+struct PlacedWall {
+  int type = Wall::Plane;
+  int material = 0;
+  Vec3 base; // plane: a point on it; cylinder: centre of the base
+  Vec3 axis{0, 0, 1};
+  Real radius = 0, length = 0;
+  Vec3 velocity; // translation velocity
+  Real spin = 0; // angular velocity about the axis through base
+};
+
+KOKKOS_INLINE_FUNCTION PlacedWall place(const Wall& w, Real t) {
+  PlacedWall p;
+  p.type = w.type;
+  p.material = w.material;
+  p.base = w.point + w.offset(t);
+  p.axis = w.axis;
+  p.radius = w.radius;
+  p.length = w.length;
+  p.velocity = w.translation_velocity(t);
+  p.spin = w.moving(t) ? w.angular_velocity : 0;
+  return p;
+}
+
 struct WallContact {
   Real overlap = -1;      // > 0 in contact
   Vec3 normal;            // unit, from the particle toward the wall
-  Vec3 arm;               // from the wall's axis to the contact point (for the surface velocity)
   bool reachable = false; // the particle is within the wall's extent (otherwise no interaction)
+  Vec3 rel;               // from the wall's base to the particle's centre
+  Real along = 0;         // plane: distance of the centre from it; cylinder: axial position
 };
 
 // Geometry only: every particle is tested against every wall each step, and most are far from it, so
-// the surface velocity (the motion segments summed again) is left to wall_surface_velocity, called for
-// the particles within reach.
-KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec3& x, Real radius) {
+// the lever arm to the contact point is left to wall_surface_velocity, called for the particles within
+// reach.
+KOKKOS_INLINE_FUNCTION WallContact wall_contact(const PlacedWall& w, const Vec3& x, Real radius) {
   WallContact c;
-  const Vec3 base = w.point + w.offset(t);
-  const Vec3 rel = x - base;
+  c.rel = x - w.base;
   if (w.type == Wall::Plane) {
-    const Real dist = dot(rel, w.axis);
+    c.along = dot(c.rel, w.axis);
     if (w.radius > 0) {
-      const Vec3 in_plane = rel - dist * w.axis;
+      const Vec3 in_plane = c.rel - c.along * w.axis;
       if (norm2(in_plane) > w.radius * w.radius) return c;
     }
     c.reachable = true;
-    c.overlap = radius - dist;
+    c.overlap = radius - c.along;
     c.normal = -w.axis;
-    c.arm = rel - dist * w.axis;
     return c;
   }
   // Inner side of a cylinder.
-  const Real axial = dot(rel, w.axis);
-  if (axial < 0 || axial > w.length) return c;
-  const Vec3 radial = rel - axial * w.axis;
+  c.along = dot(c.rel, w.axis);
+  if (c.along < 0 || c.along > w.length) return c;
+  const Vec3 radial = c.rel - c.along * w.axis;
   const Real r = norm(radial);
   if (r <= 0) return c;
   c.reachable = true;
   c.normal = (1.0 / r) * radial;
   c.overlap = radius - (w.radius - r);
-  c.arm = axial * w.axis + w.radius * c.normal;
   return c;
 }
 
-// Velocity of the wall's surface at the contact point of `c` (translation plus rotation about the axis).
-KOKKOS_INLINE_FUNCTION Vec3 wall_surface_velocity(const Wall& w, Real t, const WallContact& c) {
-  const Real spin = w.moving(t) ? w.angular_velocity : 0;
-  return w.translation_velocity(t) + spin * cross(w.axis, c.arm);
+// The same for a wall not yet placed (host analyses, one particle at a time).
+KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec3& x, Real radius) {
+  return wall_contact(place(w, t), x, radius);
+}
+
+// Velocity of the wall's surface at the contact point of `c` (translation plus rotation about the axis),
+// with the arm from the axis to the contact point.
+KOKKOS_INLINE_FUNCTION Vec3 wall_surface_velocity(const PlacedWall& w, const WallContact& c) {
+  const Vec3 arm = w.type == Wall::Plane ? c.rel - c.along * w.axis : c.along * w.axis + w.radius * c.normal;
+  return w.velocity + w.spin * cross(w.axis, arm);
 }
 
 } // namespace cgdem

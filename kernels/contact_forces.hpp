@@ -27,10 +27,10 @@ struct ContactForces {
   template <class NeighborListT>
   static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
                       const ParamTable& pair_params, const ParamTable& wall_params,
-                      const Kokkos::View<Wall*, Mem>& walls,
+                      const Kokkos::View<PlacedWall*, Mem>& walls,
                       const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
-                      const Kokkos::View<Real* [3], Mem>& wall_force, Real time, Real dt, Real reach,
-                      Real max_radius, Real max_displacement, Law law, int n) {
+                      const Kokkos::View<Real* [3], Mem>& wall_force, Real dt, Real reach, Real max_radius,
+                      Real max_displacement, Law law, int n) {
     const int nwalls = static_cast<int>(walls.extent(0));
     const bool record_wall_force = wall_force.extent(0) > 0;
     const auto offsets = nl.offsets;
@@ -157,8 +157,8 @@ struct ContactForces {
       }
 
       for (int w = 0; w < nwalls; ++w) {
-        const Wall& wall = walls(w); // a reference: the struct with its motion segments is ~50 words
-        const WallContact wc = wall_contact(wall, time, xi, ri);
+        const PlacedWall& wall = walls(w); // placed at this step's time by the caller
+        const WallContact wc = wall_contact(wall, xi, ri);
         ForceReal* const wh = H > 0 ? &wall_history(i, w * H) : nullptr; // this wall's H values
         Vec3 fw;
         if (!wc.reachable || wc.overlap <= -reach) {
@@ -167,7 +167,7 @@ struct ContactForces {
             for (int k = 0; k < H; ++k)
               if (wh[k] != 0) wh[k] = 0;
         } else {
-          const Vec3 surface_velocity = wall_surface_velocity(wall, time, wc);
+          const Vec3 surface_velocity = wall_surface_velocity(wall, wc);
           models::PairState st;
           st.normal = wc.normal;
           st.overlap = wc.overlap;

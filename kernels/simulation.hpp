@@ -144,6 +144,8 @@ private:
   ParticleStore<Mem> store_;
   Kokkos::View<models::PairParameters**, Mem> pair_params_, wall_params_;
   Kokkos::View<Wall*, Mem> walls_;
+  Kokkos::View<PlacedWall*, Mem> placed_walls_; // walls_ at the time of the last force pass
+  typename Kokkos::View<PlacedWall*, Mem>::HostMirror placed_walls_host_;
   HistoryView wall_history_;
   Kokkos::View<double*, Mem> reorder_scratch_; // one field at a time during a reorder (kernels/reorder.hpp)
   Kokkos::View<Real* [3], Mem> wall_force_record_; // N x wall parts, written on recording steps

@@ -255,7 +255,9 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
       ++beyond;
       ASSERT_LE(nl.gap(s), g);
       ASSERT_GE(nl.gap(s), 0.999 * g - 1e-15);
-      if (s > nl.offsets(i)) ASSERT_LE(nl.gap(s - 1), nl.gap(s)) << "slots beyond reach sorted by gap";
+      if (s > nl.offsets(i)) {
+        ASSERT_LE(nl.gap(s - 1), nl.gap(s)) << "slots beyond reach sorted by gap";
+      }
     }
   EXPECT_GT(beyond, n);
 
@@ -271,7 +273,7 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.9, 0.3);
   Kokkos::View<models::PairParameters**, Mem> params("params", 1, 1);
   params(0, 0) = mix_pair(m, m, false);
-  Kokkos::View<Wall*, Mem> walls("walls", 0);
+  Kokkos::View<PlacedWall*, Mem> walls("walls", 0);
   Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history("wall_history", n, 0);
   Kokkos::View<Real* [3], Mem> no_record("no_record", 0);
   Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> history0("history0", nl.history.extent(0), 3);
@@ -286,7 +288,7 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   auto pass = [&](double max_displacement) {
     Kokkos::deep_copy(nl.history, history0);
     kernels::ContactForces<HostExec, ListLaw>::compute(p, nl, domain, params, params, walls, wall_history,
-                                                       no_record, 0.0, 1e-6, 0.0, rmax, max_displacement,
+                                                       no_record, 1e-6, 0.0, rmax, max_displacement,
                                                        ListLaw{}, n);
     std::vector<double> out;
     for (int i = 0; i < n; ++i) {
