@@ -4,6 +4,9 @@
 //               returns the largest squared displacement since the last list build (NaN/Inf -> +inf,
 //               which the caller reports as a blow-up);
 //   closing_kick: v += dt/2 (F/m + g), omega += dt/2 T/I with the new forces.
+// When nothing reads the velocities between one step's closing kick and the next step's kick, kick_drift
+// does both in one pass (close_previous): the same operations in the same order, so the trajectory is
+// bitwise the one of the separate passes, without one sweep over the store per step.
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
@@ -14,26 +17,32 @@ template <class ExecSpace>
 struct Integrator {
   using Mem = typename ExecSpace::memory_space;
 
-  // Half a step of particle i's forces on its velocities: both kicks use exactly this.
+  // Half a step of particle i's forces on velocities u: every kick uses exactly this.
   struct Velocities {
     Vec3 v, w;
   };
-  KOKKOS_INLINE_FUNCTION static Velocities half_kick(const ParticleStore<Mem>& p, int i, const Vec3& gravity,
-                                                     Real half) {
+  KOKKOS_INLINE_FUNCTION static Velocities stored_velocities(const ParticleStore<Mem>& p, int i) {
+    return {load3(p.velocity, i), load3(p.angular_velocity, i)};
+  }
+  KOKKOS_INLINE_FUNCTION static Velocities half_kick(const ParticleStore<Mem>& p, int i, const Velocities& u,
+                                                     const Vec3& gravity, Real half) {
     const Real inv_m = 1.0 / p.mass(i);
     const Real inv_i = 1.0 / p.inertia(i);
-    return {load3(p.velocity, i) + half * (inv_m * load3(p.force, i) + gravity),
-            load3(p.angular_velocity, i) + (half * inv_i) * load3(p.torque, i)};
+    return {u.v + half * (inv_m * load3(p.force, i) + gravity), u.w + (half * inv_i) * load3(p.torque, i)};
   }
 
+  // close_previous: the forces in the store are the previous step's new ones, not yet applied by a
+  // closing_kick; apply them first.
   static Real kick_drift(const ParticleStore<Mem>& p, const Domain& domain, const Vec3& gravity, Real dt,
-                         int n) {
+                         int n, bool close_previous = false) {
     Real max_disp2 = 0;
     const Real half = 0.5 * dt;
     Kokkos::parallel_reduce(
         "cgdem::kernels::kick_drift", Kokkos::RangePolicy<ExecSpace>(0, n),
         KOKKOS_LAMBDA(int i, Real& worst) {
-          const auto [v, w] = half_kick(p, i, gravity, half);
+          Velocities u = stored_velocities(p, i);
+          if (close_previous) u = half_kick(p, i, u, gravity, half);
+          const auto [v, w] = half_kick(p, i, u, gravity, half);
           const Vec3 x = domain.wrap(load3(p.position, i) + dt * v);
           store3(p.velocity, i, v);
           store3(p.angular_velocity, i, w);
@@ -51,7 +60,7 @@ struct Integrator {
     const Real half = 0.5 * dt;
     Kokkos::parallel_for(
         "cgdem::kernels::closing_kick", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          const auto [v, w] = half_kick(p, i, gravity, half);
+          const auto [v, w] = half_kick(p, i, stored_velocities(p, i), gravity, half);
           store3(p.velocity, i, v);
           store3(p.angular_velocity, i, w);
         });
