@@ -24,13 +24,15 @@ struct ContactForces {
 
   // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
   // the force each particle feels from each wall part is stored there too (for the wall reductions).
+  // `cleared`: the store's forces, torques and contact counts are zero already (the integrator's pass
+  // zeroed them); otherwise this zeroes them first.
   template <class NeighborListT>
   static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
                       const ParamTable& pair_params, const ParamTable& wall_params,
                       const Kokkos::View<PlacedWall*, Mem>& walls,
                       const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
                       const Kokkos::View<Real* [3], Mem>& wall_force, Real dt, Real reach, Real max_radius,
-                      Real max_displacement, Law law, int n) {
+                      Real max_displacement, Law law, int n, bool cleared = false) {
     const int nwalls = static_cast<int>(walls.extent(0));
     const bool record_wall_force = wall_force.extent(0) > 0;
     const auto offsets = nl.offsets;
@@ -53,12 +55,13 @@ struct ContactForces {
     const auto block_members = nl.block_members;
 
     // Every particle receives from its partners before or after its own turn: start from zero.
-    Kokkos::parallel_for(
-        "cgdem::kernels::clear_forces", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          store3(p.force, i, Vec3{});
-          store3(p.torque, i, Vec3{});
-          p.contacts(i) = 0;
-        });
+    if (!cleared)
+      Kokkos::parallel_for(
+          "cgdem::kernels::clear_forces", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+            store3(p.force, i, Vec3{});
+            store3(p.torque, i, Vec3{});
+            p.contacts(i) = 0;
+          });
 
     // One particle's pairs and walls; writes to itself and its partners only.
     auto particle_forces = [=] KOKKOS_FUNCTION(int i) {

@@ -32,9 +32,11 @@ struct Integrator {
   }
 
   // close_previous: the forces in the store are the previous step's new ones, not yet applied by a
-  // closing_kick; apply them first.
+  // closing_kick; apply them first. clear_forces: zero each particle's force, torque and contact count
+  // once read, for the force pass that follows (ContactForces::compute's `cleared`), instead of a
+  // sweep of its own over the store.
   static Real kick_drift(const ParticleStore<Mem>& p, const Domain& domain, const Vec3& gravity, Real dt,
-                         int n, bool close_previous = false) {
+                         int n, bool close_previous = false, bool clear_forces = false) {
     Real max_disp2 = 0;
     const Real half = 0.5 * dt;
     Kokkos::parallel_reduce(
@@ -43,6 +45,11 @@ struct Integrator {
           Velocities u = stored_velocities(p, i);
           if (close_previous) u = half_kick(p, i, u, gravity, half);
           const auto [v, w] = half_kick(p, i, u, gravity, half);
+          if (clear_forces) {
+            store3(p.force, i, Vec3{});
+            store3(p.torque, i, Vec3{});
+            p.contacts(i) = 0;
+          }
           const Vec3 x = domain.wrap(load3(p.position, i) + dt * v);
           store3(p.velocity, i, v);
           store3(p.angular_velocity, i, w);

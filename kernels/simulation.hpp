@@ -70,8 +70,8 @@ public:
     bool closing_pending = false;
     for (long s = 0; s < steps; ++s) {
       timer.reset();
-      const Real max_d2 =
-          Integrator<ExecSpace>::kick_drift(store_, cfg_.domain, cfg_.gravity, cfg_.dt, n_, closing_pending);
+      const Real max_d2 = Integrator<ExecSpace>::kick_drift(store_, cfg_.domain, cfg_.gravity, cfg_.dt, n_,
+                                                            closing_pending, /*clear_forces=*/true);
       timers_.integrate += timer.seconds();
       if (!(max_d2 < Kokkos::Experimental::infinity<Real>::value))
         throw BlowUpError(diagnose("a position or velocity became NaN or Inf"));
@@ -79,7 +79,7 @@ public:
       if (4 * max_d2 > cfg_.skin * cfg_.skin) rebuild(false); // sets it to 0
       ++step_;
       time_ = step_ * cfg_.dt; // not accumulated: a restart reproduces it bitwise
-      compute_forces(s == steps - 1);
+      compute_forces(s == steps - 1, /*cleared=*/true);
       const bool health_check = step_ % health_every_ == 0;
       closing_pending = s < steps - 1 && !health_check;
       if (closing_pending) continue;
@@ -140,7 +140,7 @@ private:
   void upload_particles();
   void upload_tables();
   void rebuild(bool first);
-  void compute_forces(bool record_wall_forces);
+  void compute_forces(bool record_wall_forces, bool cleared = false);
   Real max_overlap_fraction();
   void check_overlaps();
   std::string diagnose(const std::string& what);

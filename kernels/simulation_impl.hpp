@@ -104,7 +104,7 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
 }
 
 template <class Law, class ExecSpace>
-void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces) {
+void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool cleared) {
   Kokkos::Timer timer;
   Kokkos::View<Real* [3], Mem> record;
   if (record_wall_forces) record = wall_force_record_;
@@ -115,7 +115,7 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces) {
   Kokkos::deep_copy(placed_walls_, placed_walls_host_);
   ContactForces<ExecSpace, Law>::compute(store_, nl_, cfg_.domain, pair_params_, wall_params_, placed_walls_,
                                          wall_history_, record, cfg_.dt, cfg_.reach, max_radius_,
-                                         displacement_since_build_, Law{}, n_);
+                                         displacement_since_build_, Law{}, n_, cleared);
   Kokkos::fence();
   timers_.forces += timer.seconds();
 }
