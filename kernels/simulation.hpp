@@ -2,7 +2,9 @@
 // Simulation<Law, ExecSpace>: the time loop over the SoA store, for one compiled contact law on one
 // Kokkos execution space. Each step (design.md):
 //   kick + drift -> (list rebuild with spatial reorder when a particle moved > skin/2) -> forces -> closing
-//   kick (the integrate timer holds both kicks and the drift).
+//   kick (the integrate timer holds both kicks and the drift). Inside advance() the closing kick rides on
+//   the next step's kick + drift pass, which also zeroes the forces for the next force pass (bitwise the
+//   same trajectory; Integrator::kick_drift).
 #include <Kokkos_Core.hpp>
 #include <algorithm>
 #include <cstdio>
