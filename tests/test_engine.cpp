@@ -2,6 +2,7 @@
 // across rebuilds and reorders, momentum and energy conservation in closed periodic boxes.
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <array>
 #include <limits>
 #include <cmath>
 #include <map>
@@ -329,14 +330,22 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
         ASSERT_EQ(nl.gap(s), built[s]) << "slot " << s;
 }
 
+namespace {
+// Two identical engines on a dense, frictional periodic box of 1200 spheres: many sustained sliding
+// contacts, for tests that run the same scene two ways.
+std::array<std::unique_ptr<Engine>, 2> twin_dense_boxes(unsigned seed) {
+  const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.5, 0.5);
+  const double box = 0.01;
+  const ParticleSet p = random_periodic(1200, box, 0.4e-3, 0.5e-3, 2500, 0.3, seed);
+  return {make(periodic_scene(box, m), p, 2e-6, "openmp", 0.1e-3),
+          make(periodic_scene(box, m), p, 2e-6, "openmp", 0.1e-3)};
+}
+} // namespace
+
 TEST(Integrator, ClosingKickFusedIntoTheNextStepGivesTheSameTrajectory) {
   // advance(n) leaves each step's closing kick to the next step's kick_drift; advance(1) never does
   // (its last step always closes). The two must agree bitwise: the fused pass is the same arithmetic.
-  const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.5, 0.5);
-  const double box = 0.01;
-  ParticleSet p = random_periodic(1200, box, 0.4e-3, 0.5e-3, 2500, 0.3, 11);
-  auto fused = make(periodic_scene(box, m), p, 2e-6, "openmp", 0.1e-3);
-  auto separate = make(periodic_scene(box, m), p, 2e-6, "openmp", 0.1e-3);
+  auto [fused, separate] = twin_dense_boxes(11);
   fused->advance(250); // crosses two health checks, where the kick is not fused either
   for (int s = 0; s < 250; ++s)
     separate->advance(1);
@@ -350,11 +359,7 @@ TEST(Integrator, ClosingKickFusedIntoTheNextStepGivesTheSameTrajectory) {
 TEST(ContactHistory, TangentialSpringSurvivesForcedRebuildAndReorder) {
   // A dense, sheared frictional box: many sustained sliding contacts. Rebuilding and reordering must
   // carry every (i, j) history entry over unchanged, so the next forces equal those without a rebuild.
-  const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.5, 0.5);
-  const double box = 0.01;
-  ParticleSet p = random_periodic(1200, box, 0.4e-3, 0.5e-3, 2500, 0.3, 7);
-  auto a = make(periodic_scene(box, m), p, 2e-6, "openmp", 0.1e-3);
-  auto b = make(periodic_scene(box, m), p, 2e-6, "openmp", 0.1e-3);
+  auto [a, b] = twin_dense_boxes(7);
   a->advance(300);
   b->advance(300);
   // Keyed by (smaller id, larger id) and seen from the smaller id: the owner of a pair may change with
