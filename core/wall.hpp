@@ -46,7 +46,7 @@ struct Wall {
 };
 
 // A wall part at one instant: where its base is and how its surface moves. The force pass places every
-// wall once per step (Wall::at) instead of once per particle: summing the motion segments was about a
+// wall once per step (place) instead of once per particle: summing the motion segments was about a
 // third of a far particle's wall test.
 struct PlacedWall {
   int type = Wall::Plane;
