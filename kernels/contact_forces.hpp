@@ -122,11 +122,12 @@ struct ContactForces {
         st.lever_share = pp.lever_share;
         // Velocity of i's contact point relative to j's, the lever arms (models::lever_arm) l_i along +n and
         // l_j along -n: (v_i + w_i x l_i n) - (v_j - w_j x l_j n) = (v_i - v_j) + (l_i w_i + l_j w_j) x n.
+        // The spin part is tangential already, so only the centres' relative velocity loses its normal part.
         const Vec3 dv = vi - vj;
-        const Vec3 vrel =
-            dv + cross(models::lever_arm(ri, st) * wi + models::lever_arm(rj, st) * wj, st.normal);
         st.overlap_rate = dot(dv, st.normal);
-        st.tangential_velocity = vrel - dot(vrel, st.normal) * st.normal;
+        st.tangential_velocity =
+            (dv - st.overlap_rate * st.normal) +
+            cross(models::lever_arm(ri, st) * wi + models::lever_arm(rj, st) * wj, st.normal);
         st.relative_rotation = wi - wj;
         st.omega_i = wi;
         st.omega_j = wj;
@@ -176,10 +177,11 @@ struct ContactForces {
           st.overlap = wc.overlap;
           const models::PairParameters& pp = wall_params(mat_i, wall.material);
           st.lever_share = pp.lever_share;
-          const Vec3 vci = vi + cross(wi, models::lever_arm(ri, st) * wc.normal);
-          const Vec3 vrel = vci - surface_velocity;
-          st.overlap_rate = dot(vi - surface_velocity, wc.normal);
-          st.tangential_velocity = vrel - dot(vrel, wc.normal) * wc.normal;
+          // As for a pair: the spin part (w_i x l_i n) is tangential already.
+          const Vec3 dv = vi - surface_velocity;
+          st.overlap_rate = dot(dv, wc.normal);
+          st.tangential_velocity =
+              (dv - st.overlap_rate * wc.normal) + cross(wi, models::lever_arm(ri, st) * wc.normal);
           st.relative_rotation = wi;
           st.omega_i = wi;
           st.radius_i = ri;

@@ -25,7 +25,7 @@ struct MindlinTangential {
       if (proj2 > 0) xi *= math::sqrt(len2 / proj2);
     }
     xi += s.dt * s.tangential_velocity;
-    Vec3 ft = -(nr.k_t * xi + nr.c_t * s.tangential_velocity);
+    Vec3 ft = (-nr.k_t) * xi - nr.c_t * s.tangential_velocity; // = -(k_t xi + c_t v_t), without the negation
     const Real limit = p.mu_slide * nr.friction_load;
     const Real ft2 = norm2(ft);
     if (ft2 > limit * limit) {
