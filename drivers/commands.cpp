@@ -409,6 +409,7 @@ int info_command(const std::vector<std::string>& args) {
               "4 colours (no atomics; deterministic on every backend)\n");
   std::printf("precision: positions, velocities, total forces double; contact history %s\n",
               sizeof(ForceReal) == sizeof(float) ? "float (CGDEM_FLOAT_FORCES)" : "double");
+  std::printf("instruction set: %s (CGDEM_ARCH)\n", CGDEM_ARCH);
   return 0;
 }
 

@@ -115,8 +115,8 @@ run_peer() { # code n ranks run
 {
   echo "compare.sh: $(date -u '+%Y-%m-%d %H:%M UTC'), host $(hostname), $(lscpu | sed -n 's/^Model name: *//p'), $CORES cores"
   echo "  load average at start: $(cut -d' ' -f1-3 /proc/loadavg); sizes: $SIZES; $RUNS runs x $STEPS steps; codes: $CODES"
-  echo "  cgdem: $CGDEM_SRC, $(cd "$ROOT" && git log -1 --format='%h %cd' --date=short 2>/dev/null) ($("$CGDEM" info 2>&1 | head -1))"
-  echo "  LIGGGHTS: $(dpkg-query -W -f '${Version}' liggghts 2>/dev/null || echo '?'); LAMMPS: $(dpkg-query -W -f '${Version}' lammps 2>/dev/null || echo '?') (restitution input $LAMMPS_E); $($MPIRUN --version 2>&1 | head -1)"
+  echo "  cgdem: $CGDEM_SRC, $(cd "$ROOT" && git log -1 --format='%h %cd' --date=short 2>/dev/null) ($("$CGDEM" info 2>&1 | head -1), $("$CGDEM" info 2>&1 | grep -m1 '^instruction set' || echo 'instruction set: generic'))"
+  echo "  LIGGGHTS: $(command -v "$LIGGGHTS") ($(dpkg -S "$(command -v "$LIGGGHTS")" >/dev/null 2>&1 && dpkg-query -W -f 'Debian ${Version}' liggghts || echo 'not from a Debian package')); LAMMPS: $(dpkg-query -W -f '${Version}' lammps 2>/dev/null || echo '?') (restitution input $LAMMPS_E); $($MPIRUN --version 2>&1 | head -1)"
 } | tee "$OUT/header.txt"
 
 for n in $SIZES; do
