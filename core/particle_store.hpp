@@ -108,4 +108,14 @@ KOKKOS_INLINE_FUNCTION void store3(const View& v, int i, const Vec3& a) {
   }
 }
 
+// Zero particle i's force and torque sums and its contact count, before a force pass adds to them: done by
+// the force pass itself, or by the integrator's pass that reads them last (ContactForces::compute's
+// `cleared`).
+template <class MemorySpace>
+KOKKOS_INLINE_FUNCTION void clear_force_sums(const ParticleStore<MemorySpace>& p, int i) {
+  store3(p.force, i, Vec3{});
+  store3(p.torque, i, Vec3{});
+  p.contacts(i) = 0;
+}
+
 } // namespace cgdem

@@ -57,11 +57,8 @@ struct ContactForces {
     // Every particle receives from its partners before or after its own turn: start from zero.
     if (!cleared)
       Kokkos::parallel_for(
-          "cgdem::kernels::clear_forces", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-            store3(p.force, i, Vec3{});
-            store3(p.torque, i, Vec3{});
-            p.contacts(i) = 0;
-          });
+          "cgdem::kernels::clear_forces", Kokkos::RangePolicy<ExecSpace>(0, n),
+          KOKKOS_LAMBDA(int i) { clear_force_sums(p, i); });
 
     // One particle's pairs and walls; writes to itself and its partners only.
     auto particle_forces = [=] KOKKOS_FUNCTION(int i) {

@@ -45,11 +45,7 @@ struct Integrator {
           Velocities u = stored_velocities(p, i);
           if (close_previous) u = half_kick(p, i, u, gravity, half);
           const auto [v, w] = half_kick(p, i, u, gravity, half);
-          if (clear_forces) {
-            store3(p.force, i, Vec3{});
-            store3(p.torque, i, Vec3{});
-            p.contacts(i) = 0;
-          }
+          if (clear_forces) clear_force_sums(p, i);
           const Vec3 x = domain.wrap(load3(p.position, i) + dt * v);
           store3(p.velocity, i, v);
           store3(p.angular_velocity, i, w);
