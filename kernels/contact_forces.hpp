@@ -21,6 +21,8 @@ struct ContactForces {
   using Mem = typename ExecSpace::memory_space;
   using ParamTable = Kokkos::View<models::PairParameters**, Mem>;
   static constexpr int H = Law::history_size;
+  // Pairs evaluated side by side (see `evaluate`): two AVX2 vectors of doubles, one AVX-512 vector.
+  static constexpr int kLanes = 8;
 
   // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
   // the force each particle feels from each wall part is stored there too (for the wall reductions).
@@ -60,20 +62,129 @@ struct ContactForces {
           "cgdem::kernels::clear_forces", Kokkos::RangePolicy<ExecSpace>(0, n),
           KOKKOS_LAMBDA(int i) { clear_force_sums(p, i); });
 
-    // One particle's pairs and walls; writes to itself and its partners only.
-    auto particle_forces = [=] KOKKOS_FUNCTION(int i) {
+    // The pairs within reach are evaluated in batches of kLanes, one law evaluation per lane in a loop
+    // the compiler turns into SIMD instructions (a contact's chain of roots and divisions is longer than
+    // the core looks ahead, so one contact at a time leaves it waiting; eight side by side keep it busy;
+    // perf/README.md). IEEE arithmetic is lane-wise exact and there is no fused multiply-add, so a lane
+    // gives bitwise what the same law gives alone: the batching changes no result but the order in which
+    // a particle's sum receives its terms, which is fixed by the block's order on every backend.
+    // A batch: the pairs (owner i, partner j, slot s), all of one pair of materials (a pair of another starts
+    // a new batch) so that the law's parameters are the same in every lane, and what the law needs of them,
+    // copied in by the list's walk: the separation as the list saw it, the relative velocity, spins, radii,
+    // masses, scale factors and the slot's history. The lanes then read only these rows, which the compiler
+    // loads as vectors (gathering from the particle store inside the loop it does not vectorize).
+    struct PairBatch {
+      int i[kLanes], j[kLanes], slot[kLanes];
+      int material_i = 0, material_j = 0;
+      Real d[3][kLanes], dv[3][kLanes], wi[3][kLanes], wj[3][kLanes];
+      Real ri[kLanes], rj[kLanes], mi[kLanes], mj[kLanes], scale_i[kLanes], scale_j[kLanes];
+      Real h[H > 0 ? H : 1][kLanes];
+      int n = 0;
+    };
+    // Evaluate a full or partly full batch and add each lane's force and torque to its two particles in lane
+    // order. A partly full batch's spare lanes repeat lane 0 (their results are dropped), so the loop always
+    // runs kLanes wide.
+    auto evaluate = [=] KOKKOS_FUNCTION(PairBatch & b) {
+      for (int l = b.n; l < kLanes; ++l) {
+        for (int k = 0; k < 3; ++k) {
+          b.d[k][l] = b.d[k][0];
+          b.dv[k][l] = b.dv[k][0];
+          b.wi[k][l] = b.wi[k][0];
+          b.wj[k][l] = b.wj[k][0];
+        }
+        b.ri[l] = b.ri[0];
+        b.rj[l] = b.rj[0];
+        b.mi[l] = b.mi[0];
+        b.mj[l] = b.mj[0];
+        b.scale_i[l] = b.scale_i[0];
+        b.scale_j[l] = b.scale_j[0];
+        for (int k = 0; k < H; ++k)
+          b.h[k][l] = b.h[k][0];
+      }
+      Real out_force[3][kLanes], out_torque[3][kLanes], out_torque_j[3][kLanes];
+      int out_active[kLanes]; // not bool: a byte per lane would ask for 32 lanes per vector
+      // By value: the lanes read a handful of its fields, each a constant of the loop.
+      const models::PairParameters pp = pair_params(b.material_i, b.material_j);
+      for (int l = 0; l < kLanes; ++l) {
+        const Vec3 d{b.d[0][l], b.d[1][l], b.d[2][l]};
+        const Vec3 dv{b.dv[0][l], b.dv[1][l], b.dv[2][l]};
+        const Vec3 wi{b.wi[0][l], b.wi[1][l], b.wi[2][l]};
+        const Vec3 wj{b.wj[0][l], b.wj[1][l], b.wj[2][l]};
+        const Real ri = b.ri[l], rj = b.rj[l], mi = b.mi[l], mj = b.mj[l];
+        const Real dist = math::sqrt(norm2(d));
+        models::PairState st;
+        st.normal = (1.0 / dist) * d;
+        st.overlap = (ri + rj) - dist;
+        st.lever_share = pp.lever_share;
+        // Velocity of i's contact point relative to j's, the lever arms (models::lever_arm) l_i along +n and
+        // l_j along -n: (v_i + w_i x l_i n) - (v_j - w_j x l_j n) = (v_i - v_j) + (l_i w_i + l_j w_j) x n.
+        // The spin part is tangential already, so only the centres' relative velocity loses its normal part.
+        st.overlap_rate = dot(dv, st.normal);
+        st.tangential_velocity =
+            (dv - st.overlap_rate * st.normal) +
+            cross(models::lever_arm(ri, st) * wi + models::lever_arm(rj, st) * wj, st.normal);
+        st.relative_rotation = wi - wj;
+        st.omega_i = wi;
+        st.omega_j = wj;
+        st.radius_i = ri;
+        st.radius_j = rj;
+        st.radius_eff = ri * rj / (ri + rj);
+        st.mass_eff = mi * mj / (mi + mj);
+        st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
+        st.volume_j = (4.0 / 3.0) * math::pi * rj * rj * rj;
+        st.dt = dt;
+        st.scale_i = b.scale_i[l];
+        st.scale_j = b.scale_j[l];
+        Real h[H > 0 ? H : 1];
+        for (int k = 0; k < H; ++k)
+          h[k] = b.h[k][l];
+        const models::ContactForce cf = law(pp, st, h);
+        for (int k = 0; k < H; ++k)
+          b.h[k][l] = h[k];
+        out_force[0][l] = cf.force.x;
+        out_force[1][l] = cf.force.y;
+        out_force[2][l] = cf.force.z;
+        out_torque[0][l] = cf.torque.x;
+        out_torque[1][l] = cf.torque.y;
+        out_torque[2][l] = cf.torque.z;
+        out_torque_j[0][l] = cf.torque_j.x;
+        out_torque_j[1][l] = cf.torque_j.y;
+        out_torque_j[2][l] = cf.torque_j.z;
+        out_active[l] = cf.active ? 1 : 0;
+      }
+      for (int l = 0; l < b.n; ++l) {
+        const int i = b.i[l], j = b.j[l];
+        if constexpr (H > 0)
+          for (int k = 0; k < H; ++k)
+            history_row(b.slot[l])[k] = static_cast<ForceReal>(b.h[k][l]);
+        const Vec3 f{out_force[0][l], out_force[1][l], out_force[2][l]};
+        store3(p.force, i, load3(p.force, i) + f);
+        store3(p.torque, i, load3(p.torque, i) + Vec3{out_torque[0][l], out_torque[1][l], out_torque[2][l]});
+        // The reaction on j; a pair that exerts nothing (a listed, non-touching pair of a law without
+        // reach) leaves j alone.
+        if (out_active[l] || norm2(f) > 0) {
+          store3(p.force, j, load3(p.force, j) - f);
+          store3(p.torque, j,
+                 load3(p.torque, j) + Vec3{out_torque_j[0][l], out_torque_j[1][l], out_torque_j[2][l]});
+          if (out_active[l]) {
+            p.contacts(i) += 1;
+            p.contacts(j) += 1;
+          }
+        }
+      }
+      b.n = 0;
+    };
+
+    // One particle's pairs (into the batch) and walls (at once); writes to itself and its partners only.
+    auto particle_forces = [=] KOKKOS_FUNCTION(int i, PairBatch& batch) {
       const Vec3 xi = load3(p.position, i);
       const Vec3 vi = load3(p.velocity, i);
       const Vec3 wi = load3(p.angular_velocity, i);
       const Real ri = p.radius(i);
       const Real mi = p.mass(i);
-      const int mat_i = p.material(i);
-      const Real vol_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
       const Real scale_i = p.scale_factor(i);
+      const int mat_i = p.material(i);
       const bool near_seam = !interior.contains(xi);
-      Vec3 f, t;
-      int contacts = 0, wall_contacts = 0;
-      Real h[H > 0 ? H : 1];
 
       const int slot_end = offsets(i + 1);
       for (int s = offsets(i); s < slot_end; ++s) {
@@ -99,8 +210,7 @@ struct ContactForces {
         const Vec3 stored = load3(p.position, j) - xi;
         const Vec3 d = near_seam ? domain.minimum_image(stored) : stored;
         const Real dist2 = norm2(d);
-        const Real touch = ri + rj;
-        const Real reach_ij = touch + reach;
+        const Real reach_ij = (ri + rj) + reach;
         if (dist2 >= reach_ij * reach_ij || dist2 == 0) {
           // Out of reach of every interaction: the pair's history (if any) starts over. Most listed
           // pairs are not touching and already zero: read first, write only when needed.
@@ -109,54 +219,44 @@ struct ContactForces {
               if (history_row(s)[k] != 0) history_row(s)[k] = 0;
           continue;
         }
-        const Real dist = math::sqrt(dist2);
-        models::PairState st;
-        st.normal = (1.0 / dist) * d;
-        st.overlap = touch - dist;
-        const Vec3 vj = load3(p.velocity, j);
-        const Vec3 wj = load3(p.angular_velocity, j);
-        const models::PairParameters& pp = pair_params(mat_i, p.material(j));
-        st.lever_share = pp.lever_share;
-        // Velocity of i's contact point relative to j's, the lever arms (models::lever_arm) l_i along +n and
-        // l_j along -n: (v_i + w_i x l_i n) - (v_j - w_j x l_j n) = (v_i - v_j) + (l_i w_i + l_j w_j) x n.
-        // The spin part is tangential already, so only the centres' relative velocity loses its normal part.
-        const Vec3 dv = vi - vj;
-        st.overlap_rate = dot(dv, st.normal);
-        st.tangential_velocity =
-            (dv - st.overlap_rate * st.normal) +
-            cross(models::lever_arm(ri, st) * wi + models::lever_arm(rj, st) * wj, st.normal);
-        st.relative_rotation = wi - wj;
-        st.omega_i = wi;
-        st.omega_j = wj;
-        st.radius_i = ri;
-        st.radius_j = rj;
-        st.radius_eff = ri * rj / (ri + rj);
-        const Real mj = p.mass(j);
-        st.mass_eff = mi * mj / (mi + mj);
-        st.volume_i = vol_i;
-        st.volume_j = (4.0 / 3.0) * math::pi * rj * rj * rj;
-        st.dt = dt;
-        st.scale_i = scale_i;
-        st.scale_j = p.scale_factor(j);
-        if constexpr (H > 0)
-          for (int k = 0; k < H; ++k)
-            h[k] = history_row(s)[k];
-        const models::ContactForce cf = law(pp, st, h);
-        if constexpr (H > 0)
-          for (int k = 0; k < H; ++k)
-            history_row(s)[k] = static_cast<ForceReal>(h[k]);
-        f += cf.force;
-        t += cf.torque;
-        contacts += cf.active ? 1 : 0;
-        // The reaction on j; a pair that exerts nothing (a listed, non-touching pair of a law without
-        // reach) leaves j alone.
-        if (cf.active || norm2(cf.force) > 0) {
-          store3(p.force, j, load3(p.force, j) - cf.force);
-          store3(p.torque, j, load3(p.torque, j) + cf.torque_j);
-          if (cf.active) p.contacts(j) += 1;
+        const int mat_j = p.material(j);
+        if (batch.n > 0 && (batch.material_i != mat_i || batch.material_j != mat_j)) evaluate(batch);
+        if (batch.n == 0) {
+          batch.material_i = mat_i;
+          batch.material_j = mat_j;
         }
+        const int l = batch.n++;
+        batch.i[l] = i;
+        batch.j[l] = j;
+        batch.slot[l] = s;
+        const Vec3 dv = vi - load3(p.velocity, j);
+        const Vec3 wj = load3(p.angular_velocity, j);
+        batch.d[0][l] = d.x;
+        batch.d[1][l] = d.y;
+        batch.d[2][l] = d.z;
+        batch.dv[0][l] = dv.x;
+        batch.dv[1][l] = dv.y;
+        batch.dv[2][l] = dv.z;
+        batch.wi[0][l] = wi.x;
+        batch.wi[1][l] = wi.y;
+        batch.wi[2][l] = wi.z;
+        batch.wj[0][l] = wj.x;
+        batch.wj[1][l] = wj.y;
+        batch.wj[2][l] = wj.z;
+        batch.ri[l] = ri;
+        batch.rj[l] = rj;
+        batch.mi[l] = mi;
+        batch.mj[l] = p.mass(j);
+        batch.scale_i[l] = scale_i;
+        batch.scale_j[l] = p.scale_factor(j);
+        for (int k = 0; k < H; ++k)
+          batch.h[k][l] = history_row(s)[k];
+        if (batch.n == kLanes) evaluate(batch);
       }
 
+      Vec3 f, t;
+      int wall_contacts = 0;
+      Real h[H > 0 ? H : 1];
       for (int w = 0; w < nwalls; ++w) {
         const PlacedWall& wall = walls(w); // placed at this step's time by the caller
         const WallContact wc = wall_contact(wall, xi, ri);
@@ -185,7 +285,7 @@ struct ContactForces {
           st.radius_j = 0;
           st.radius_eff = ri;
           st.mass_eff = mi;
-          st.volume_i = vol_i;
+          st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
           st.volume_j = 0;
           st.dt = dt;
           st.scale_i = scale_i;
@@ -206,7 +306,6 @@ struct ContactForces {
       }
       store3(p.force, i, load3(p.force, i) + f);
       store3(p.torque, i, load3(p.torque, i) + t);
-      p.contacts(i) += contacts;
       p.wall_contacts(i) = wall_contacts;
     };
 
@@ -219,8 +318,10 @@ struct ContactForces {
       Kokkos::parallel_for(
           "cgdem::kernels::contact_forces", DynamicRange(first, last).set_chunk_size(1),
           KOKKOS_LAMBDA(int b) {
+            PairBatch batch;
             for (int m = block_offsets(b); m < block_offsets(b + 1); ++m)
-              particle_forces(block_members(m));
+              particle_forces(block_members(m), batch);
+            if (batch.n > 0) evaluate(batch);
           });
     }
   }
