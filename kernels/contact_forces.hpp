@@ -8,6 +8,7 @@
 // Every particle's sum therefore has a fixed order (colour, then block order), the same on every backend
 // and thread count, and the partner gets exactly the negated force: momentum is conserved to round-off.
 // Nothing is stored per slot but the contact history.
+#include <type_traits>
 #include <Kokkos_Core.hpp>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
@@ -23,6 +24,14 @@ struct ContactForces {
   static constexpr int H = Law::history_size;
   // Pairs evaluated side by side (see `evaluate`): two AVX2 vectors of doubles, one AVX-512 vector.
   static constexpr int kLanes = 8;
+  // Whether the law reads the particles' coarse-graining factors (PairState::scale_i/j); a law that does
+  // not say is assumed to.
+  template <class L, class = void>
+  struct ReadsScaleFactors : std::true_type {};
+  template <class L>
+  struct ReadsScaleFactors<L, std::void_t<decltype(L::reads_scale_factors)>>
+      : std::bool_constant<L::reads_scale_factors> {};
+  static constexpr bool kScaleFactors = ReadsScaleFactors<Law>::value;
 
   // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
   // the force each particle feels from each wall part is stored there too (for the wall reductions).
@@ -55,6 +64,8 @@ struct ContactForces {
     const Domain::Interior interior = domain.interior((2 * max_radius + reach) * (1 + 1e-9));
     const auto block_offsets = nl.block_offsets;
     const auto block_members = nl.block_members;
+    // One material (most scenes): no partner's material to fetch.
+    const bool one_material = pair_params.extent(0) == 1 && pair_params.extent(1) == 1;
 
     // Every particle receives from its partners before or after its own turn: start from zero.
     if (!cleared)
@@ -96,8 +107,10 @@ struct ContactForces {
         b.rj[l] = b.rj[0];
         b.mi[l] = b.mi[0];
         b.mj[l] = b.mj[0];
-        b.scale_i[l] = b.scale_i[0];
-        b.scale_j[l] = b.scale_j[0];
+        if constexpr (kScaleFactors) {
+          b.scale_i[l] = b.scale_i[0];
+          b.scale_j[l] = b.scale_j[0];
+        }
         for (int k = 0; k < H; ++k)
           b.h[k][l] = b.h[k][0];
       }
@@ -133,8 +146,10 @@ struct ContactForces {
         st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
         st.volume_j = (4.0 / 3.0) * math::pi * rj * rj * rj;
         st.dt = dt;
-        st.scale_i = b.scale_i[l];
-        st.scale_j = b.scale_j[l];
+        if constexpr (kScaleFactors) {
+          st.scale_i = b.scale_i[l];
+          st.scale_j = b.scale_j[l];
+        }
         Real h[H > 0 ? H : 1];
         for (int k = 0; k < H; ++k)
           h[k] = b.h[k][l];
@@ -183,7 +198,7 @@ struct ContactForces {
       const Real ri = p.radius(i);
       const Real mi = p.mass(i);
       const Real scale_i = p.scale_factor(i);
-      const int mat_i = p.material(i);
+      const int mat_i = one_material ? 0 : p.material(i);
       const bool near_seam = !interior.contains(xi);
 
       const int slot_end = offsets(i + 1);
@@ -219,7 +234,7 @@ struct ContactForces {
               if (history_row(s)[k] != 0) history_row(s)[k] = 0;
           continue;
         }
-        const int mat_j = p.material(j);
+        const int mat_j = one_material ? 0 : p.material(j);
         if (batch.n > 0 && (batch.material_i != mat_i || batch.material_j != mat_j)) evaluate(batch);
         if (batch.n == 0) {
           batch.material_i = mat_i;
@@ -247,8 +262,10 @@ struct ContactForces {
         batch.rj[l] = rj;
         batch.mi[l] = mi;
         batch.mj[l] = p.mass(j);
-        batch.scale_i[l] = scale_i;
-        batch.scale_j[l] = p.scale_factor(j);
+        if constexpr (kScaleFactors) {
+          batch.scale_i[l] = scale_i;
+          batch.scale_j[l] = p.scale_factor(j);
+        }
         for (int k = 0; k < H; ++k)
           batch.h[k][l] = history_row(s)[k];
         if (batch.n == kLanes) evaluate(batch);

@@ -69,6 +69,9 @@ struct ContactLaw {
   static constexpr int tangential_offset = adhesion_offset + Adhesion::history_size;
   static constexpr int rolling_offset = tangential_offset + Tangential::history_size;
   static constexpr int history_size = rolling_offset + Rolling::history_size;
+  // The components read nothing of PairState::scale_i / scale_j (only the scaling wrappers of
+  // models/scaling/ do): the force pass need not fetch the particles' factors.
+  static constexpr bool reads_scale_factors = false;
 
   Normal normal;
   Adhesion adhesion;

@@ -80,6 +80,7 @@ struct DirectForceScaling {
   using method_type = Method;
   using law_type = Law;
   static constexpr int history_size = Law::history_size;
+  static constexpr bool reads_scale_factors = true; // the pair's factor l
 
   Law law;
 
