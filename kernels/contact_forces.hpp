@@ -206,9 +206,9 @@ struct ContactForces {
         if (gaps(s) > skip_beyond) break;
         const int j = neighbors(s);
         // The partner two slots ahead: its position, velocities, radius, mass, and the force and torque
-        // the reaction is added to, are seven scattered cache lines, and one contact's ~500 instructions
-        // are more than the core looks ahead, so without the hint each slot starts by waiting for them
-        // (perf/README.md). No test for the end of i's slots: the list keeps spare slots beyond the last
+        // the reaction is added to, are seven scattered cache lines; without the hint each slot started by
+        // waiting for them when the law ran one pair at a time (perf/README.md; with the batches, four
+        // slots ahead measured the same as two). No test for the end of i's slots: the list keeps spare slots beyond the last
         // (NeighborList::kSpareSlots), a hint never faults whatever index a slot past i's holds, and a
         // hint for another particle's partner costs less than the branch, mispredicted once per particle.
         static_assert(NeighborListT::kSpareSlots >= 2, "the index two slots ahead is read unguarded");
