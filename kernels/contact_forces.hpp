@@ -32,6 +32,16 @@ struct ContactForces {
   struct ReadsScaleFactors<L, std::void_t<decltype(L::reads_scale_factors)>>
       : std::bool_constant<L::reads_scale_factors> {};
   static constexpr bool kScaleFactors = ReadsScaleFactors<Law>::value;
+  // Lane l of a batch's three rows of a vector (x, y, z rows of kLanes each).
+  using LaneRows = Real[3][kLanes];
+  KOKKOS_INLINE_FUNCTION static void put_lane(LaneRows& rows, int l, const Vec3& v) {
+    rows[0][l] = v.x;
+    rows[1][l] = v.y;
+    rows[2][l] = v.z;
+  }
+  KOKKOS_INLINE_FUNCTION static Vec3 lane(const LaneRows& rows, int l) {
+    return {rows[0][l], rows[1][l], rows[2][l]};
+  }
 
   // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
   // the force each particle feels from each wall part is stored there too (for the wall reductions).
@@ -87,7 +97,7 @@ struct ContactForces {
     struct PairBatch {
       int i[kLanes], j[kLanes], slot[kLanes];
       int material_i = 0, material_j = 0;
-      Real d[3][kLanes], dv[3][kLanes], wi[3][kLanes], wj[3][kLanes];
+      LaneRows d, dv, wi, wj;
       Real ri[kLanes], rj[kLanes], mi[kLanes], mj[kLanes], scale_i[kLanes], scale_j[kLanes];
       Real h[H > 0 ? H : 1][kLanes];
       int n = 0;
@@ -114,15 +124,15 @@ struct ContactForces {
         for (int k = 0; k < H; ++k)
           b.h[k][l] = b.h[k][0];
       }
-      Real out_force[3][kLanes], out_torque[3][kLanes], out_torque_j[3][kLanes];
+      LaneRows out_force, out_torque, out_torque_j;
       int out_active[kLanes]; // not bool: a byte per lane would ask for 32 lanes per vector
       // By value: the lanes read a handful of its fields, each a constant of the loop.
       const models::PairParameters pp = pair_params(b.material_i, b.material_j);
       for (int l = 0; l < kLanes; ++l) {
-        const Vec3 d{b.d[0][l], b.d[1][l], b.d[2][l]};
-        const Vec3 dv{b.dv[0][l], b.dv[1][l], b.dv[2][l]};
-        const Vec3 wi{b.wi[0][l], b.wi[1][l], b.wi[2][l]};
-        const Vec3 wj{b.wj[0][l], b.wj[1][l], b.wj[2][l]};
+        const Vec3 d = lane(b.d, l);
+        const Vec3 dv = lane(b.dv, l);
+        const Vec3 wi = lane(b.wi, l);
+        const Vec3 wj = lane(b.wj, l);
         const Real ri = b.ri[l], rj = b.rj[l], mi = b.mi[l], mj = b.mj[l];
         const Real dist = math::sqrt(norm2(d));
         models::PairState st;
@@ -156,15 +166,9 @@ struct ContactForces {
         const models::ContactForce cf = law(pp, st, h);
         for (int k = 0; k < H; ++k)
           b.h[k][l] = h[k];
-        out_force[0][l] = cf.force.x;
-        out_force[1][l] = cf.force.y;
-        out_force[2][l] = cf.force.z;
-        out_torque[0][l] = cf.torque.x;
-        out_torque[1][l] = cf.torque.y;
-        out_torque[2][l] = cf.torque.z;
-        out_torque_j[0][l] = cf.torque_j.x;
-        out_torque_j[1][l] = cf.torque_j.y;
-        out_torque_j[2][l] = cf.torque_j.z;
+        put_lane(out_force, l, cf.force);
+        put_lane(out_torque, l, cf.torque);
+        put_lane(out_torque_j, l, cf.torque_j);
         out_active[l] = cf.active ? 1 : 0;
       }
       for (int l = 0; l < b.n; ++l) {
@@ -172,15 +176,14 @@ struct ContactForces {
         if constexpr (H > 0)
           for (int k = 0; k < H; ++k)
             history_row(b.slot[l])[k] = static_cast<ForceReal>(b.h[k][l]);
-        const Vec3 f{out_force[0][l], out_force[1][l], out_force[2][l]};
+        const Vec3 f = lane(out_force, l);
         store3(p.force, i, load3(p.force, i) + f);
-        store3(p.torque, i, load3(p.torque, i) + Vec3{out_torque[0][l], out_torque[1][l], out_torque[2][l]});
+        store3(p.torque, i, load3(p.torque, i) + lane(out_torque, l));
         // The reaction on j; a pair that exerts nothing (a listed, non-touching pair of a law without
         // reach) leaves j alone.
         if (out_active[l] || norm2(f) > 0) {
           store3(p.force, j, load3(p.force, j) - f);
-          store3(p.torque, j,
-                 load3(p.torque, j) + Vec3{out_torque_j[0][l], out_torque_j[1][l], out_torque_j[2][l]});
+          store3(p.torque, j, load3(p.torque, j) + lane(out_torque_j, l));
           if (out_active[l]) {
             p.contacts(i) += 1;
             p.contacts(j) += 1;
@@ -246,18 +249,10 @@ struct ContactForces {
         batch.slot[l] = s;
         const Vec3 dv = vi - load3(p.velocity, j);
         const Vec3 wj = load3(p.angular_velocity, j);
-        batch.d[0][l] = d.x;
-        batch.d[1][l] = d.y;
-        batch.d[2][l] = d.z;
-        batch.dv[0][l] = dv.x;
-        batch.dv[1][l] = dv.y;
-        batch.dv[2][l] = dv.z;
-        batch.wi[0][l] = wi.x;
-        batch.wi[1][l] = wi.y;
-        batch.wi[2][l] = wi.z;
-        batch.wj[0][l] = wj.x;
-        batch.wj[1][l] = wj.y;
-        batch.wj[2][l] = wj.z;
+        put_lane(batch.d, l, d);
+        put_lane(batch.dv, l, dv);
+        put_lane(batch.wi, l, wi);
+        put_lane(batch.wj, l, wj);
         batch.ri[l] = ri;
         batch.rj[l] = rj;
         batch.mi[l] = mi;
