@@ -10,6 +10,7 @@
 // slots whose history is not zero are carried (a compact CSR of partner and history, about the active
 // contacts), not the whole previous list: that would double the list's memory for the step of a rebuild.
 #include <Kokkos_Core.hpp>
+#include <vector>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
 #include "kernels/cell_grid.hpp"
@@ -38,6 +39,13 @@ struct NeighborList {
   Kokkos::View<int*, Mem> block_offsets; // blocks + 1
   Kokkos::View<int*, Mem> block_members; // n
   int colour_begin[kColours + 1] = {};   // blocks [colour_begin[c], colour_begin[c + 1]) have colour c
+  // For the force pass's ordered schedule (ContactForces): each block's neighbours of earlier colours, the
+  // only blocks that may write to a particle it writes to (CSR over the blocks).
+  Kokkos::View<int*, Mem> block_after_offsets; // blocks + 1
+  Kokkos::View<int*, Mem> block_after;
+  // The ordered schedule's state during a pass: which blocks are done, how many are claimed.
+  Kokkos::View<int*, Mem> block_done;
+  Kokkos::View<int, Mem> blocks_claimed{"cgdem::kernels::nl_blocks_claimed"};
   int num_slots = 0;
 
   // The history to carry into the next build: per particle (by its index at the last build), the
@@ -47,7 +55,8 @@ struct NeighborList {
 
   std::size_t bytes() const {
     return (offsets.span() + neighbors.span() + block_offsets.span() + block_members.span() +
-            carry_offsets.span() + carry_partner.span()) *
+            block_after_offsets.span() + block_after.span() + block_done.span() + carry_offsets.span() +
+            carry_partner.span()) *
                sizeof(int) +
            gap.span() * sizeof(float) + (history.span() + carry_history.span()) * sizeof(ForceReal);
   }
@@ -348,6 +357,7 @@ struct NeighborList {
     // Host: each block's cells (y0, y1, z0, z1), colour by colour (once per build).
     Kokkos::View<int* [4], Mem> box("cgdem::kernels::nl_block_box", nblocks);
     auto hbox = Kokkos::create_mirror_view(box);
+    std::vector<int> strip_y(nblocks), strip_z(nblocks);
     int b = 0;
     for (int colour = 0; colour < kColours; ++colour) {
       colour_begin[colour] = b;
@@ -357,11 +367,14 @@ struct NeighborList {
           hbox(b, 1) = edge(1, y + 1);
           hbox(b, 2) = edge(2, z);
           hbox(b, 3) = edge(2, z + 1);
+          strip_y[b] = y;
+          strip_z[b] = z;
           ++b;
         }
     }
     colour_begin[kColours] = b;
     Kokkos::deep_copy(box, hbox);
+    list_blocks_after(domain, strips, strip_y, strip_z);
     if (static_cast<int>(block_offsets.extent(0)) != nblocks + 1)
       block_offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_block_offsets", nblocks + 1);
     if (static_cast<int>(block_members.extent(0)) < n)
@@ -392,6 +405,37 @@ struct NeighborList {
           });
         });
     Kokkos::fence();
+  }
+
+  // Each block's neighbours of earlier colours: the blocks whose strips are the same or next to its own
+  // on both axes (across the seam of a periodic axis). Two blocks further apart never write to the same
+  // particle: each writes its own cells and the one-cell rim around them, and a strip of at least two
+  // cells lies between them. (Blocks of one colour are never neighbours, so the earlier ones are those of
+  // earlier colours.)
+  void list_blocks_after(const Domain& domain, const int strips[3], const std::vector<int>& strip_y,
+                         const std::vector<int>& strip_z) {
+    const int nblocks = static_cast<int>(strip_y.size());
+    auto next_to = [&](int a, int s, int t) {
+      const int d = s > t ? s - t : t - s;
+      return d <= 1 || (domain.periodic[a] && d == strips[a] - 1);
+    };
+    std::vector<int> offs(nblocks + 1, 0), after;
+    for (int bl = 0; bl < nblocks; ++bl) {
+      for (int e = 0; e < bl; ++e)
+        if (next_to(1, strip_y[bl], strip_y[e]) && next_to(2, strip_z[bl], strip_z[e])) after.push_back(e);
+      offs[bl + 1] = static_cast<int>(after.size());
+    }
+    block_after_offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_block_after_offsets", nblocks + 1);
+    block_after = Kokkos::View<int*, Mem>("cgdem::kernels::nl_block_after", after.size());
+    block_done = Kokkos::View<int*, Mem>("cgdem::kernels::nl_block_done", nblocks);
+    auto h_offs = Kokkos::create_mirror_view(block_after_offsets);
+    auto h_after = Kokkos::create_mirror_view(block_after);
+    for (int bl = 0; bl <= nblocks; ++bl)
+      h_offs(bl) = offs[bl];
+    for (std::size_t k = 0; k < after.size(); ++k)
+      h_after(k) = after[k];
+    Kokkos::deep_copy(block_after_offsets, h_offs);
+    Kokkos::deep_copy(block_after, h_after);
   }
 
   // The capacity allocated for `slots` slots: 1/16 headroom, so that the list of a settled or slowly

@@ -121,7 +121,9 @@ TEST(NeighborList, EqualsBruteForceOnPolydispersePeriodicPacksAlsoAfterReorder) 
 // blocks of one colour write to the same particle (the block itself and its members' partners), and
 // complete only if every particle is in exactly one block. Checked on packs whose cells do not divide
 // evenly into strips: periodic on every axis (strips must pair up across the seam), open in z, and a
-// tall open column where the occupied range decides the strips.
+// tall open column where the occupied range decides the strips. And, for the schedule that lets the
+// colours overlap, that a block's list of blocks to wait for holds every earlier one it shares a particle
+// with.
 TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
   struct Case {
     double box;
@@ -165,6 +167,29 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
           }
         }
     }
+    // The ordered schedule lets a block start once the blocks in its block_after list are done: every
+    // earlier block that writes to a particle it writes to must be there.
+    std::vector<std::vector<int>> writers(n);
+    for (int b = 0; b < nl.colour_begin[nl.kColours]; ++b)
+      for (int m = nl.block_offsets(b); m < nl.block_offsets(b + 1); ++m) {
+        const int i = nl.block_members(m);
+        writers[i].push_back(b);
+        for (int s = nl.offsets(i); s < nl.offsets(i + 1); ++s)
+          writers[nl.neighbors(s)].push_back(b);
+      }
+    int waits = 0;
+    for (int j = 0; j < n; ++j)
+      for (int later : writers[j])
+        for (int earlier : writers[j]) {
+          if (earlier >= later) continue;
+          const int* first = nl.block_after.data() + nl.block_after_offsets(later);
+          const int* last = nl.block_after.data() + nl.block_after_offsets(later + 1);
+          ASSERT_TRUE(std::find(first, last, earlier) != last)
+              << "box " << c.box << ": blocks " << earlier << " and " << later << " both write to particle "
+              << j << ", but " << later << " would not wait for " << earlier;
+          ++waits;
+        }
+    EXPECT_GT(waits, 0);
   }
 }
 
@@ -286,11 +311,11 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
         for (int k = 0; k < 3; ++k)
           history0(s, k) = 1e-6 * u(rng);
 
-  auto pass = [&](double max_displacement) {
+  using Pass = kernels::ContactForces<HostExec, ListLaw>;
+  auto pass = [&](double max_displacement, Pass::Schedule schedule = Pass::kDefaultSchedule) {
     Kokkos::deep_copy(nl.history, history0);
-    kernels::ContactForces<HostExec, ListLaw>::compute(p, nl, domain, params, params, walls, wall_history,
-                                                       no_record, 1e-6, 0.0, rmax, max_displacement,
-                                                       ListLaw{}, n);
+    Pass::compute(p, nl, domain, params, params, walls, wall_history, no_record, 1e-6, 0.0, rmax,
+                  max_displacement, ListLaw{}, n, false, schedule);
     std::vector<double> out;
     for (int i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) {
@@ -312,6 +337,13 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   EXPECT_GT(contacts, n / 2);
   for (std::size_t k = 0; k < skipping.size(); ++k)
     ASSERT_EQ(skipping[k], exhaustive[k]) << "entry " << k;
+  // The two schedules of the blocks (a barrier per colour, or each block after its earlier neighbours)
+  // give every particle its terms in the same order: the same bits, on however many threads run.
+  for (const auto schedule : {Pass::Schedule::by_colour, Pass::Schedule::by_neighbours}) {
+    const std::vector<double> scheduled = pass(moved, schedule);
+    for (std::size_t k = 0; k < skipping.size(); ++k)
+      ASSERT_EQ(scheduled[k], skipping[k]) << "entry " << k << ", schedule " << static_cast<int>(schedule);
+  }
 
   // A restored list gets its gaps from the positions at the build; a particle whose slots are not in the
   // order the pass stops on (an older checkpoint) must never be skipped.
