@@ -46,6 +46,7 @@ struct NeighborList {
   // The ordered schedule's state during a pass: which blocks are done, how many are claimed.
   Kokkos::View<int*, Mem> block_done;
   Kokkos::View<int, Mem> blocks_claimed{"cgdem::kernels::nl_blocks_claimed"};
+  int listed_strips[3] = {}; // the y and z strip counts block_after was listed for (0: not yet)
   int num_slots = 0;
 
   // The history to carry into the next build: per particle (by its index at the last build), the
@@ -412,8 +413,12 @@ struct NeighborList {
   // particle: each writes its own cells and the one-cell rim around them, and a strip of at least two
   // cells lies between them. (Blocks of one colour are never neighbours, so the earlier ones are those of
   // earlier colours.)
+  // They depend on the strip counts only: listed again only when a build changes those.
   void list_blocks_after(const Domain& domain, const int strips[3], const std::vector<int>& strip_y,
                          const std::vector<int>& strip_z) {
+    if (strips[1] == listed_strips[1] && strips[2] == listed_strips[2]) return;
+    listed_strips[1] = strips[1];
+    listed_strips[2] = strips[2];
     const int nblocks = static_cast<int>(strip_y.size());
     auto next_to = [&](int a, int s, int t) {
       const int d = s > t ? s - t : t - s;
