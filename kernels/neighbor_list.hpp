@@ -10,6 +10,7 @@
 // slots whose history is not zero are carried (a compact CSR of partner and history, about the active
 // contacts), not the whole previous list: that would double the list's memory for the step of a rebuild.
 #include <Kokkos_Core.hpp>
+#include <algorithm>
 #include <vector>
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
@@ -46,7 +47,8 @@ struct NeighborList {
   // The ordered schedule's state during a pass: which blocks are done, how many are claimed.
   Kokkos::View<int*, Mem> block_done;
   Kokkos::View<int, Mem> blocks_claimed{"cgdem::kernels::nl_blocks_claimed"};
-  int listed_strips[3] = {}; // the y and z strip counts block_after was listed for (0: not yet)
+  int listed_strips[3] = {}; // the y and z strip counts the blocks were ordered for (0: not yet)
+  std::vector<int> block_strip_y, block_strip_z; // host: each block's strips, in the claim order
   int num_slots = 0;
 
   // The history to carry into the next build: per particle (by its index at the last build), the
@@ -354,28 +356,18 @@ struct NeighborList {
       if (k == strips[a]) return grid.dims[a];
       return lo[a] + k * (hi[a] - lo[a] + 1) / strips[a];
     };
+    order_blocks(domain, strips);
     const int nblocks = strips[1] * strips[2];
-    // Host: each block's cells (y0, y1, z0, z1), colour by colour (once per build).
+    // Host: each block's cells (y0, y1, z0, z1) in the claim order (once per build).
     Kokkos::View<int* [4], Mem> box("cgdem::kernels::nl_block_box", nblocks);
     auto hbox = Kokkos::create_mirror_view(box);
-    std::vector<int> strip_y(nblocks), strip_z(nblocks);
-    int b = 0;
-    for (int colour = 0; colour < kColours; ++colour) {
-      colour_begin[colour] = b;
-      for (int z = colour / 2; z < strips[2]; z += 2)
-        for (int y = colour % 2; y < strips[1]; y += 2) {
-          hbox(b, 0) = edge(1, y);
-          hbox(b, 1) = edge(1, y + 1);
-          hbox(b, 2) = edge(2, z);
-          hbox(b, 3) = edge(2, z + 1);
-          strip_y[b] = y;
-          strip_z[b] = z;
-          ++b;
-        }
+    for (int b = 0; b < nblocks; ++b) {
+      hbox(b, 0) = edge(1, block_strip_y[b]);
+      hbox(b, 1) = edge(1, block_strip_y[b] + 1);
+      hbox(b, 2) = edge(2, block_strip_z[b]);
+      hbox(b, 3) = edge(2, block_strip_z[b] + 1);
     }
-    colour_begin[kColours] = b;
     Kokkos::deep_copy(box, hbox);
-    list_blocks_after(domain, strips, strip_y, strip_z);
     if (static_cast<int>(block_offsets.extent(0)) != nblocks + 1)
       block_offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_block_offsets", nblocks + 1);
     if (static_cast<int>(block_members.extent(0)) < n)
@@ -408,26 +400,63 @@ struct NeighborList {
     Kokkos::fence();
   }
 
-  // Each block's neighbours of earlier colours: the blocks whose strips are the same or next to its own
-  // on both axes (across the seam of a periodic axis). Two blocks further apart never write to the same
-  // particle: each writes its own cells and the one-cell rim around them, and a strip of at least two
-  // cells lies between them. (Blocks of one colour are never neighbours, so the earlier ones are those of
-  // earlier colours.)
-  // They depend on the strip counts only: listed again only when a build changes those.
-  void list_blocks_after(const Domain& domain, const int strips[3], const std::vector<int>& strip_y,
-                         const std::vector<int>& strip_z) {
+  // The blocks in the order the force pass claims them, colour by colour, and each block's neighbours of
+  // earlier colours: the blocks whose strips are the same or next to its own on both axes (across the
+  // seam of a periodic axis). Two blocks further apart never write to the same particle: each writes its
+  // own cells and the one-cell rim around them, and a strip of at least two cells lies between them.
+  // (Blocks of one colour are never neighbours, so the earlier ones are those of earlier colours.)
+  // Within a colour the order changes no sum (its blocks share no particle) but decides how long a
+  // thread of the ordered schedule waits: a colour's first blocks should not need the previous colour's
+  // last ones, which are still running. So each colour after the first lists its blocks by the claim
+  // position of their last neighbour, earliest first, and the first colour runs backwards so that its
+  // last blocks lie at the low ends, away from where the next colours start. (A model of two threads
+  // claiming blocks of equal work +-30 %: on the 50k bed's 6 x 4 strips the waiting falls from 1.4 % of
+  // the work to 0, on the 200k bed's 12 x 4 from 0.9 % to 0.)
+  // It all depends on the strip counts only: made again only when a build changes those.
+  void order_blocks(const Domain& domain, const int strips[3]) {
     if (strips[1] == listed_strips[1] && strips[2] == listed_strips[2]) return;
     listed_strips[1] = strips[1];
     listed_strips[2] = strips[2];
-    const int nblocks = static_cast<int>(strip_y.size());
     auto next_to = [&](int a, int s, int t) {
       const int d = s > t ? s - t : t - s;
       return d <= 1 || (domain.periodic[a] && d == strips[a] - 1);
     };
+    auto neighbours = [&](int y, int z, int e) {
+      return next_to(1, y, block_strip_y[e]) && next_to(2, z, block_strip_z[e]);
+    };
+    block_strip_y.clear();
+    block_strip_z.clear();
+    for (int colour = 0; colour < kColours; ++colour) {
+      const int placed = static_cast<int>(block_strip_y.size());
+      colour_begin[colour] = placed;
+      struct Candidate {
+        int y, z, last_neighbour;
+      };
+      std::vector<Candidate> blocks;
+      for (int z = colour / 2; z < strips[2]; z += 2)
+        for (int y = colour % 2; y < strips[1]; y += 2) {
+          int last = -1;
+          for (int e = 0; e < placed; ++e)
+            if (neighbours(y, z, e)) last = e;
+          blocks.push_back({y, z, last});
+        }
+      if (colour == 0)
+        std::reverse(blocks.begin(), blocks.end());
+      else
+        std::stable_sort(blocks.begin(), blocks.end(), [](const Candidate& a, const Candidate& b) {
+          return a.last_neighbour < b.last_neighbour;
+        });
+      for (const Candidate& c : blocks) {
+        block_strip_y.push_back(c.y);
+        block_strip_z.push_back(c.z);
+      }
+    }
+    const int nblocks = static_cast<int>(block_strip_y.size());
+    colour_begin[kColours] = nblocks;
     std::vector<int> offs(nblocks + 1, 0), after;
     for (int bl = 0; bl < nblocks; ++bl) {
       for (int e = 0; e < bl; ++e)
-        if (next_to(1, strip_y[bl], strip_y[e]) && next_to(2, strip_z[bl], strip_z[e])) after.push_back(e);
+        if (neighbours(block_strip_y[bl], block_strip_z[bl], e)) after.push_back(e);
       offs[bl + 1] = static_cast<int>(after.size());
     }
     block_after_offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_block_after_offsets", nblocks + 1);

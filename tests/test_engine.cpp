@@ -120,17 +120,20 @@ TEST(NeighborList, EqualsBruteForceOnPolydispersePeriodicPacksAlsoAfterReorder) 
 // The force pass adds each pair's reaction to the partner directly; it is race-free only if no two
 // blocks of one colour write to the same particle (the block itself and its members' partners), and
 // complete only if every particle is in exactly one block. Checked on packs whose cells do not divide
-// evenly into strips: periodic on every axis (strips must pair up across the seam), open in z, and a
-// tall open column where the occupied range decides the strips. And, for the schedule that lets the
-// colours overlap, that a block's list of blocks to wait for holds every earlier one it shares a particle
-// with.
+// evenly into strips: periodic on every axis (strips must pair up across the seam), open in z, a
+// tall open column where the occupied range decides the strips, and a bed shape (6 x 4 strips, like the
+// 50k bed's). And, for the schedule that lets the colours overlap, that a block's list of blocks to wait
+// for holds every earlier one it shares a particle with, and that the claim order does not start a colour
+// with a block that must wait for the previous colour's last one when it need not (the order of 6 x 4
+// strips colour by colour, z then y, did).
 TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
   struct Case {
     double box;
     bool periodic_z;
     double fill_height; // fraction of the box height the particles occupy
   };
-  for (const Case& c : {Case{0.0286, true, 1.0}, Case{0.0157, false, 1.0}, Case{0.0143, false, 0.3}}) {
+  for (const Case& c : {Case{0.0286, true, 1.0}, Case{0.0157, false, 1.0}, Case{0.0143, false, 0.3},
+                        Case{0.034, false, 0.65}}) {
     ParticleSet p = random_periodic(2500, c.box, 0.2e-3, 0.5e-3, 2500, 0, 7);
     for (auto& x : p.position)
       x[2] *= c.fill_height;
@@ -190,6 +193,23 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
           ++waits;
         }
     EXPECT_GT(waits, 0);
+    // The claim order: a colour's first block waits for the previous colour's last one (likely still
+    // running when it is claimed) only where every block of the colour would.
+    for (int colour = 1; colour < nl.kColours; ++colour) {
+      const int first = nl.colour_begin[colour], end = nl.colour_begin[colour + 1];
+      if (first == end || nl.colour_begin[colour - 1] == first) continue;
+      auto waits_for_last = [&](int b) {
+        const int* from = nl.block_after.data() + nl.block_after_offsets(b);
+        const int* to = nl.block_after.data() + nl.block_after_offsets(b + 1);
+        return std::find(from, to, first - 1) != to;
+      };
+      bool avoidable = false;
+      for (int b = first; b < end; ++b)
+        avoidable = avoidable || !waits_for_last(b);
+      EXPECT_FALSE(avoidable && waits_for_last(first))
+          << "box " << c.box << ", strips " << nl.listed_strips[1] << " x " << nl.listed_strips[2]
+          << ": colour " << colour << " starts with a block that waits for the previous colour's last";
+    }
   }
 }
 
