@@ -11,7 +11,7 @@
 # Prints per code and thread/rank count the median and min-max of particle-steps/s, the peak memory per
 # particle (/usr/bin/time max RSS summed over ranks / N, whole process: includes the executable and
 # libraries), the contacts per particle at the end ((particle-particle + floor contacts) / N, cgdem's count
-# in /series/contacts), the ratios cgdem / peer at 1 and 2 threads/ranks and each code's 2-vs-1 speed-up.
+# in /series/contacts), the ratios cgdem / peer at 1 and 2 threads/ranks and each code's 2-vs-1 speed-up (of the medians, and run by run).
 # Raw rows and logs go to DIR (default perf/peers/bed/work/compare-<date>/, git-ignored).
 # Environment: CGDEM (default build/cgdem), LIGGGHTS (liggghts), LMP (lmp), MPIRUN (mpirun),
 # MPIRUN_FLAGS (added to mpirun; --allow-run-as-root is added when running as root), LAMMPS_E (the LAMMPS
@@ -163,6 +163,11 @@ for n in ["2k", "10k", "50k", "200k"]:
             print(f"{n:>5} cgdem / {peer:<8}: " + ", ".join(parts))
     for code in ["cgdem", "liggghts", "lammps"]:
         if (n, code, 1) in med and (n, code, 2) in med:
-            print(f"{n:>5} 2-vs-1 speed-up {code:<8}: {med[(n, code, 2)] / med[(n, code, 1)]:.3f}")
+            # Also run by run (each 2-thread/rank run over the 1-thread/rank run just before it): on a
+            # shared machine the spread of these shows how much of the median ratio is the machine.
+            one = {r["run"]: float(r["pss"]) for r in by[(n, code, 1)]}
+            pairs = sorted(float(r["pss"]) / one[r["run"]] for r in by[(n, code, 2)] if r["run"] in one)
+            print(f"{n:>5} 2-vs-1 speed-up {code:<8}: {med[(n, code, 2)] / med[(n, code, 1)]:.3f} "
+                  f"(run by run {' '.join(f'{x:.2f}' for x in pairs)})")
 EOF
 echo "rows: $ROWS"
