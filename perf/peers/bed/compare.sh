@@ -11,7 +11,8 @@
 # Prints per code and thread/rank count the median and min-max of particle-steps/s, the peak memory per
 # particle (/usr/bin/time max RSS summed over ranks / N, whole process: includes the executable and
 # libraries), the contacts per particle at the end ((particle-particle + floor contacts) / N, cgdem's count
-# in /series/contacts), the ratios cgdem / peer at 1 and 2 threads/ranks and each code's 2-vs-1 speed-up (of the medians, and run by run).
+# in /series/contacts), the ratios cgdem / peer at 1 and 2 threads/ranks and each code's 2-vs-1 speed-up
+# (of the medians, and run by run).
 # Raw rows and logs go to DIR (default perf/peers/bed/work/compare-<date>/, git-ignored).
 # Environment: CGDEM (default build/cgdem), LIGGGHTS (liggghts), LMP (lmp), MPIRUN (mpirun),
 # MPIRUN_FLAGS (added to mpirun; --allow-run-as-root is added when running as root), LAMMPS_E (the LAMMPS
