@@ -117,8 +117,8 @@ CGDEM_INFO=$("$CGDEM" info 2>&1 || true)
 {
   echo "compare.sh: $(date -u '+%Y-%m-%d %H:%M UTC'), host $(hostname), $(lscpu | sed -n 's/^Model name: *//p'), $CORES cores"
   echo "  load average at start: $(cut -d' ' -f1-3 /proc/loadavg); sizes: $SIZES; $RUNS runs x $STEPS steps; codes: $CODES"
-  # The binary is named by its checksum and build time: CGDEM may point at a copy built from another commit
-  # than the working tree's, which is printed as the tree's, not the binary's.
+  # The binary is named by its checksum and build time, since CGDEM may point at a copy built from another
+  # commit than the working tree's; the tree's commit is printed as the tree's.
   echo "  cgdem: $CGDEM_SRC (sha256 $(sha256sum "$CGDEM_SRC" | cut -c1-12), built $(date -u -r "$CGDEM_SRC" '+%Y-%m-%d %H:%M UTC')), tree at $(cd "$ROOT" && git log -1 --format='%h %cd' --date=short 2>/dev/null) ($(echo "$CGDEM_INFO" | head -1), $(echo "$CGDEM_INFO" | grep -m1 '^instruction set' || echo 'instruction set: generic'))"
   echo "  LIGGGHTS: $(command -v "$LIGGGHTS") ($(dpkg -S "$(command -v "$LIGGGHTS")" >/dev/null 2>&1 && dpkg-query -W -f 'Debian ${Version}' liggghts || echo 'not from a Debian package')); LAMMPS: $(dpkg-query -W -f '${Version}' lammps 2>/dev/null || echo '?') (restitution input $LAMMPS_E); $($MPIRUN --version 2>&1 | head -1)"
 } | tee "$OUT/header.txt"
