@@ -148,6 +148,9 @@ ScaledTables scaled_tables(const Scene& scene) {
       const std::size_t orig = static_cast<std::size_t>(sa.material) * nm + sb.material;
       t.pair_params[a * ns + b] = scale_pair(pairs[orig], law, pair_scale_factor(sa.factor, sb.factor));
       t.wall_params[a * ns + b] = scale_pair(walls[orig], law, pair_scale_factor(sa.factor, 0));
+      if (!scene.groups.empty())
+        t.pair_params[a * ns + b].torque_power = t.wall_params[a * ns + b].torque_power =
+            scene.groups.front().coarse_grain.torque_power;
     }
   return t;
 }
@@ -178,6 +181,14 @@ void check_scaling(const Scene& scene) {
     throw std::invalid_argument(std::string("coarse_grain law ") + scaling_law_name(law) +
                                 " scales E and gamma of Hertz-based laws; the scene's normal law is '" +
                                 normal + "' (use thakur for eepa / linear)");
+  // A parameter law scales E, gamma or the EEPA springs, never a liquid bridge, whose force would then grow
+  // as k where the law needs k^3 (and its rupture distance as k).
+  if (is_parameter(law) && scene.contact.adhesion == "capillary")
+    throw std::invalid_argument(
+        std::string("coarse_grain law ") + scaling_law_name(law) +
+        " does not scale capillary bridges (their force would grow as k, not k^3); use "
+        "a direct force law (hu_method1, hu_method2, hu_method3 or sakai), which "
+        "evaluates the original bridge and scales its force");
 }
 
 DirectExponents direct_exponents(ScalingLaw law) {

@@ -1,5 +1,5 @@
 #pragma once
-// Coarse-graining scaling laws on the host (physics.md 2, docs/coarse_graining.md).
+// Coarse-graining scaling laws on the host (docs/physics.md 4, docs/coarse_graining.md).
 //
 // A scene names one law for all its groups (the parser enforces it); each group has its own factor k.
 // Parameter laws (chen_elliott, bond, cohesion, thakur) change the contact parameters once, here; direct
@@ -53,7 +53,7 @@ double group_scale_factor(const GroupSpec& group);
 
 // Multipliers a parameter law applies at factor k (all 1 for none and the direct laws).
 struct ParameterScaling {
-  double surface_energy = 1; // gamma (JKR, DMT, simplified JKR)
+  double surface_energy = 1; // gamma (JKR, DMT)
   double youngs_modulus = 1; // E, hence E* and G*
   double stiffness = 1;      // EEPA k1, k2, k_adh (and k_t = 2/7 k1); linear spring k_n, k_t
   double pull_off = 1;       // EEPA f0
@@ -85,10 +85,11 @@ ScaledTables scaled_tables(const Scene& scene);
 ContactSpec effective_contact(const Scene& scene);
 
 // Refuses laws that do not fit the scene's contact law (thakur needs eepa or linear; chen_elliott, bond and
-// cohesion need a Hertz-based law: hertz, jkr). Throws std::invalid_argument with the reason.
+// cohesion need a Hertz-based law: hertz, jkr; no parameter law scales capillary bridges). Throws
+// std::invalid_argument with the reason.
 void check_scaling(const Scene& scene);
 
-// Exponents of the direct methods (physics.md 2): original overlap = coarse overlap / l^overlap_power,
+// Exponents of the direct methods (docs/physics.md 4.2): original overlap = coarse overlap / l^overlap_power,
 // coarse force = l^force_power original force; and what they mean for an equivalent coarse contact
 // (time step): a Hertz law with E* l^hertz_modulus_power, a linear spring with k l^spring_power.
 struct DirectExponents {

@@ -38,16 +38,21 @@ struct MaterialSpec {
 // Which compiled law a scene uses, component by component (models/contact_law.hpp).
 struct ContactSpec {
   std::string normal = "hertz";       // hertz | linear | jkr | eepa
-  std::string adhesion = "none";      // none | dmt | jkr_simplified | capillary
+  std::string adhesion = "none";      // none | dmt | capillary
   std::string tangential = "mindlin"; // mindlin | none
   std::string rolling = "none";       // none | constant_torque | spring_dashpot
   bool wall_adhesion = true;          // false: particle-wall pairs get no surface energy / liquid
-  // Full JKR: a bonded pair separates at delta_S (JKR theory, physics.md) or, as LAMMPS' jkr model
-  // does, at the pull-off point delta_C (for comparisons with LAMMPS-based studies).
-  std::string jkr_separation = "delta_s"; // delta_s | pull_off
+  // Full JKR: a bonded pair separates at delta_S (JKR theory, docs/physics.md), at the pull-off point
+  // delta_C as LAMMPS' jkr model does, or as soon as the overlap is lost (Hu's JKR).
+  std::string jkr_separation = "delta_s"; // delta_s | pull_off | contact_loss
   // Lever arm of tangential forces (and the contact point of the slip velocity): R - overlap/2
-  // (contact_point) or R (radius, which makes Chen-Elliott's torque scaling k^4 exact).
-  std::string lever_arm = "contact_point"; // contact_point | radius
+  // (contact_point) or R (radius, which makes Chen-Elliott's torque scaling k^4 exact); auto takes radius
+  // under chen_elliott and contact_point otherwise (resolved_lever_arm in core/materials.hpp).
+  std::string lever_arm = "auto"; // auto | contact_point | radius
+  // How the damping coefficient follows from the restitution (core/restitution.hpp): restitution (the
+  // rebound of an isolated collision equals the input e for every law) or beta_formula (Tsuji's
+  // 2 sqrt(5/6) beta(e) for Hertz and JKR, as LIGGGHTS and EDEM do).
+  std::string damping = "restitution"; // restitution | beta_formula
   // Direct force scaling wrapping the whole law (models/scaling/direct_force_scaling.hpp): none |
   // hu_method1 | hu_method2 | hu_method3 | sakai. Not a YAML key: derived from the groups' coarse_grain.law
   // by effective_contact() (core/scaling.hpp); the compiled name gets "@<method>".
@@ -64,6 +69,9 @@ struct CoarseGrainSpec {
   std::string law =
       "none"; // none | chen_elliott | bond | cohesion | thakur | hu_method1 | hu_method2 | hu_method3 | sakai
   double factor = 1;
+  // Hu Method 1 only: the interparticle torque scales as l^torque_power (2: Hu eq 30; 3: rotational
+  // similarity with t_S = l t_O). 0: the method's own exponent.
+  int torque_power = 0;
 };
 
 struct SizeSpec {

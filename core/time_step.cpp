@@ -113,7 +113,7 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
         m_eff /= k * k * k;
         r_eff /= k;
       }
-      const models::PairParameters p = evaluated(mix_pair(ma, mb, false), k);
+      const models::PairParameters p = evaluated(mix_pair(ma, mb, false, scene.contact), k);
       double tc = inf;
       if (linear && p.k_n > 0)
         tc = M_PI * std::sqrt(m_eff / p.k_n);
@@ -122,11 +122,12 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
       else if (p.E_eff > 0)
         tc = hertz_contact_time(m_eff, r_eff, p.E_eff, speed);
       if (law == ScalingLaw::HuMethod1) tc *= k;
-      const models::PairParameters adh = evaluated(mix_pair(ma, mb, !wall || scene.contact.wall_adhesion), k);
+      const models::PairParameters adh =
+          evaluated(mix_pair(ma, mb, !wall || scene.contact.wall_adhesion, scene.contact), k);
       if (scene.contact.normal == "jkr" && adh.surface_energy > 0 && adh.E_eff > 0) {
         // JKR length scale u = (pi^2 gamma^2 R* / E*^2)^(1/3); relative speeds reach twice a particle's.
-        const double u =
-            std::cbrt(M_PI * M_PI * adh.surface_energy * adh.surface_energy * r_eff / (adh.E_eff * adh.E_eff));
+        const double u = std::cbrt(M_PI * M_PI * adh.surface_energy * adh.surface_energy * r_eff /
+                                   (adh.E_eff * adh.E_eff));
         const double step = 2e-3 * u / (2 * speed) * (law == ScalingLaw::HuMethod1 ? k : 1.0);
         if (step < accuracy) {
           accuracy = step;
@@ -189,8 +190,8 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
     if (scene.time.resolve_adhesion && accuracy < e.step) {
       e.step = accuracy;
       r.str("");
-      r << "auto: JKR snap-in/snap-off resolution of " << accuracy_pair << " (v dt = 2e-3 u at "
-        << 2 * speed << " m/s; stable limit " << e.limit << " s from " << why.str() << ")";
+      r << "auto: JKR snap-in/snap-off resolution of " << accuracy_pair << " (v dt = 2e-3 u at " << 2 * speed
+        << " m/s; stable limit " << e.limit << " s from " << why.str() << ")";
     }
     e.reason = r.str();
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Time-step estimate (physics.md section 3): the stable limit is the smaller of 0.3 Rayleigh times of
+// Time-step estimate (docs/physics.md 5): the stable limit is the smaller of 0.3 Rayleigh times of
 // the smallest particle of each material and a tenth of the shortest contact time (Hertz at the
 // scene's characteristic impact speed, or the linear / EEPA spring period).
 // Coarse-graining (core/scaling.hpp, docs/coarse_graining.md): chen_elliott takes the ORIGINAL particles'
@@ -26,7 +26,7 @@ struct TimeStepEstimate {
 };
 
 double rayleigh_time(double radius, double density, double youngs_modulus, double poisson_ratio);
-// Hertz contact time of an elastic impact at relative speed v (Raman 1920 / physics.md).
+// Hertz contact time of an elastic impact at relative speed v (Raman 1920 / docs/physics.md 3.1).
 double hertz_contact_time(double m_eff, double r_eff, double e_eff, double speed);
 
 TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& particles);

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <unistd.h>
 #include "core/checkpoint.hpp"
+#include "core/materials.hpp"
 #include "core/result_writer.hpp"
 #include "core/time_step.hpp"
 #include "drivers/analyses.hpp"
@@ -346,6 +347,25 @@ int check_command(const std::vector<std::string>& args) {
     std::printf("scene        %s\n", o.scene.c_str());
     std::printf("physics      %s (%s)\n", physics.c_str(),
                 p.scene.contact.wall_adhesion ? "same law on walls" : "walls without adhesion");
+    {
+      const ContactSpec& c = p.scene.contact;
+      const bool spring = c.normal == "linear" || c.normal == "eepa";
+      std::printf("damping      %s: %s\n", c.damping.c_str(),
+                  spring ? "eta = 2|beta(e)|, exact for the linear spring"
+                  : c.damping == "beta_formula"
+                      ? "eta = 2 sqrt(5/6) |beta(e)| (Tsuji, as LIGGGHTS / EDEM)"
+                      : (c.normal == "jkr" ? "eta = 2 sqrt(5/6) |beta(e)|, exact for the unclamped Hertz-JKR "
+                                             "contact far above the sticking velocity"
+                                           : "eta solved from the damped Hertz equation (force held >= 0)"));
+      for (std::size_t m = 0; m < p.scene.materials.size(); ++m)
+        std::printf(
+            "             %s: e = %g -> eta = %.6g\n", p.scene.materials[m].name.c_str(),
+            p.scene.materials[m].restitution,
+            damping_coefficient(p.scene.materials[m].restitution, c, p.scene.materials[m].surface_energy));
+      std::printf("lever arm    %s%s\n", resolved_lever_arm(p.scene).c_str(),
+                  c.lever_arm == "auto" ? " (auto: radius under chen_elliott, else contact_point)" : "");
+      if (c.normal == "jkr") std::printf("jkr          separation at %s\n", c.jkr_separation.c_str());
+    }
     std::printf("time step    %.4g s: %s\n", p.dt.step, p.dt.reason.c_str());
     std::printf("             Rayleigh time %.4g s, shortest contact time %.4g s, %.0f steps per contact\n",
                 p.dt.rayleigh_time, p.dt.contact_time, p.dt.contact_time / p.dt.step);

@@ -33,14 +33,6 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
   c.num_materials = static_cast<int>(tables.slots.size());
   c.pair_params = std::move(tables.pair_params);
   c.wall_params = std::move(tables.wall_params);
-  if (scene.contact.jkr_separation == "pull_off")
-    for (auto* table : {&c.pair_params, &c.wall_params})
-      for (models::PairParameters& p : *table)
-        p.jkr_separate_at_pull_off = 1;
-  if (scene.contact.lever_arm == "radius")
-    for (auto* table : {&c.pair_params, &c.wall_params})
-      for (models::PairParameters& p : *table)
-        p.lever_share = 0;
   c.domain = Domain(to_vec(scene.domain.lo), to_vec(scene.domain.hi), scene.domain.periodic[0],
                     scene.domain.periodic[1], scene.domain.periodic[2]);
   c.gravity = to_vec(scene.gravity);

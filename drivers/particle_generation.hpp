@@ -7,7 +7,7 @@ namespace cgdem {
 
 // Coarse-graining hook: the factor by which a group's particle radius is multiplied (the group's
 // coarse_grain.factor for any law other than "none", else 1). The scaling of material parameters and
-// forces is applied elsewhere (physics.md section 2); here only the size of the generated particles.
+// forces is applied elsewhere (docs/physics.md 4); here only the size of the generated particles.
 double coarse_radius_factor(const GroupSpec& group);
 
 // One ParticleSet for the whole scene, groups in scene order, deterministic for the groups' seeds.

@@ -17,7 +17,6 @@ std::unique_ptr<Engine> make_jkr(const EngineConfig&, const std::string&, const 
 std::unique_ptr<Engine> make_jkr_mindlin(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_jkr_mindlin_sd(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_hertz_dmt_mindlin(const EngineConfig&, const std::string&, const std::string&);
-std::unique_ptr<Engine> make_hertz_sjkr_mindlin(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_hertz_capillary_mindlin(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_hertz_capillary(const EngineConfig&, const std::string&, const std::string&);
 std::unique_ptr<Engine> make_eepa_mindlin(const EngineConfig&, const std::string&, const std::string&);
@@ -52,7 +51,6 @@ const Entry registry[] = {
     {"jkr+mindlin", make_jkr_mindlin},
     {"jkr+mindlin+spring_dashpot", make_jkr_mindlin_sd},
     {"hertz+dmt+mindlin", make_hertz_dmt_mindlin},
-    {"hertz+jkr_simplified+mindlin", make_hertz_sjkr_mindlin},
     {"hertz+capillary+mindlin", make_hertz_capillary_mindlin},
     {"hertz+capillary", make_hertz_capillary},
     {"eepa+mindlin", make_eepa_mindlin},

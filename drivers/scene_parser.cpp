@@ -2,6 +2,7 @@
 #include "drivers/scene_parser.hpp"
 
 #include <yaml-cpp/yaml.h>
+#include "core/scaling.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -42,7 +43,7 @@ std::string scene_error_message(const std::string& location, const std::string& 
 namespace {
 
 const std::vector<std::string> kNormalLaws = {"hertz", "linear", "jkr", "eepa"};
-const std::vector<std::string> kAdhesionLaws = {"none", "dmt", "jkr_simplified", "capillary"};
+const std::vector<std::string> kAdhesionLaws = {"none", "dmt", "capillary"};
 const std::vector<std::string> kTangentialLaws = {"mindlin", "none"};
 const std::vector<std::string> kRollingLaws = {"none", "constant_torque", "spring_dashpot"};
 const std::vector<std::string> kCoarseLaws = {
@@ -308,6 +309,7 @@ struct Parser {
   std::filesystem::path base_dir;
   Scene scene;
   std::map<std::string, Field> material_fields; // for cross-checks
+  YAML::Mark coarse_law_mark; // group 0's coarse_grain.law, for errors about the scene's law
 
   std::vector<std::string> material_names() const {
     std::vector<std::string> out;
@@ -436,22 +438,30 @@ struct Parser {
   }
 
   void parse_contact(const Field& f) {
-    MapView m(
-        ctx, f,
-        {"normal", "adhesion", "tangential", "rolling", "wall_adhesion", "jkr_separation", "lever_arm"});
+    MapView m(ctx, f,
+              {"normal", "adhesion", "tangential", "rolling", "wall_adhesion", "jkr_separation", "lever_arm",
+               "damping"});
     ContactSpec& c = scene.contact;
     if (m.has("normal")) c.normal = as_choice(ctx, m.get("normal"), kNormalLaws, "normal law");
+    if (m.has("adhesion") && m.get("adhesion").node.IsScalar() &&
+        m.get("adhesion").node.Scalar() == "jkr_simplified")
+      ctx.fail(
+          m.sub("adhesion"), m.get("adhesion").mark,
+          "adhesion 'jkr_simplified' is Hu's JKR, which is the full JKR curve while the surfaces overlap",
+          "use normal: jkr with jkr_separation: contact_loss (and adhesion: none)");
     if (m.has("adhesion")) c.adhesion = as_choice(ctx, m.get("adhesion"), kAdhesionLaws, "adhesion law");
     if (m.has("tangential"))
       c.tangential = as_choice(ctx, m.get("tangential"), kTangentialLaws, "tangential law");
     if (m.has("rolling")) c.rolling = as_choice(ctx, m.get("rolling"), kRollingLaws, "rolling law");
     opt_bool(ctx, m, "wall_adhesion", c.wall_adhesion);
     if (m.has("jkr_separation"))
-      c.jkr_separation =
-          as_choice(ctx, m.get("jkr_separation"), {"delta_s", "pull_off"}, "JKR separation rule");
+      c.jkr_separation = as_choice(ctx, m.get("jkr_separation"), {"delta_s", "pull_off", "contact_loss"},
+                                   "JKR separation rule");
     if (m.has("lever_arm"))
-      c.lever_arm = as_choice(ctx, m.get("lever_arm"), {"contact_point", "radius"}, "lever arm");
-    if ((c.normal == "jkr" || c.normal == "eepa") && (c.adhesion == "dmt" || c.adhesion == "jkr_simplified"))
+      c.lever_arm = as_choice(ctx, m.get("lever_arm"), {"auto", "contact_point", "radius"}, "lever arm");
+    if (m.has("damping"))
+      c.damping = as_choice(ctx, m.get("damping"), {"restitution", "beta_formula"}, "damping rule");
+    if ((c.normal == "jkr" || c.normal == "eepa") && c.adhesion == "dmt")
       ctx.fail(m.sub("adhesion"), m.get("adhesion").mark,
                "adhesion '" + c.adhesion + "' cannot be combined with normal law '" + c.normal +
                    "', which has its own adhesion",
@@ -662,9 +672,10 @@ struct Parser {
     opt_num(ctx, m, "velocity_random", g.velocity_random);
     non_negative(ctx, m, "velocity_random", g.velocity_random, "give a speed >= 0 in m/s");
     if (m.has("coarse_grain")) {
-      MapView c(ctx, m.get("coarse_grain"), {"law", "factor"});
+      MapView c(ctx, m.get("coarse_grain"), {"law", "factor", "torque_power"});
       const Field lf = c.require("law", "give law: " + join(kCoarseLaws, " | "));
       g.coarse_grain.law = as_choice(ctx, lf, kCoarseLaws, "coarse_grain law");
+      if (index == 0) coarse_law_mark = lf.mark;
       if (c.has("factor")) {
         g.coarse_grain.factor = as_num(ctx, c.get("factor"));
         check(ctx, g.coarse_grain.factor >= 1, c.get("factor"),
@@ -676,6 +687,17 @@ struct Parser {
                    "choose a law (" + join(kCoarseLaws) + ") or remove factor");
       } else if (g.coarse_grain.law != "none") {
         c.require("factor", "give factor: <coarse diameter / original diameter>, >= 1");
+      }
+      if (c.has("torque_power")) {
+        if (g.coarse_grain.law != "hu_method1")
+          ctx.fail(c.sub("torque_power"), c.get("torque_power").mark,
+                   "torque_power applies to hu_method1 only (law is " + g.coarse_grain.law + ")",
+                   "remove torque_power");
+        g.coarse_grain.torque_power = as_int(ctx, c.get("torque_power"));
+        check(ctx, g.coarse_grain.torque_power == 2 || g.coarse_grain.torque_power == 3,
+              c.get("torque_power"),
+              "torque_power " + std::to_string(g.coarse_grain.torque_power) + " is not 2 or 3",
+              "use 2 (Hu eq 30, M_S = l^2 M_O) or 3 (rotational similarity, M_S = l^3 M_O)");
       }
     }
     if (!from_file && g.placement.kind == "lattice" && g.placement.spacing > 0) {
@@ -703,6 +725,11 @@ struct Parser {
                  "coarse_grain law '" + scene.groups[i].coarse_grain.law + "' differs from group 0's '" +
                      law + "'",
                  "use one scaling law for the whole scene");
+    for (std::size_t i = 1; i < scene.groups.size(); ++i)
+      if (scene.groups[i].coarse_grain.torque_power != scene.groups[0].coarse_grain.torque_power)
+        ctx.fail("groups." + std::to_string(i) + ".coarse_grain.torque_power", item(f, i).mark,
+                 "coarse_grain torque_power differs from group 0's",
+                 "use one torque_power for the whole scene");
   }
 
   void parse_motion(const Field& f, WallSpec& w) {
@@ -947,7 +974,8 @@ struct Parser {
                  "material '" + name + "' has no eepa.k1 and eepa.k2, needed by contact.normal eepa" +
                      used_by,
                  "add eepa: {k1: <N/m>, k2: <N/m>, k_adh: <N/m>, f0: <N>}");
-      if (c.adhesion == "capillary" &&
+      const bool wall_only = user.rfind("walls.", 0) == 0;
+      if (c.adhesion == "capillary" && !(wall_only && !c.wall_adhesion) &&
           !(m.surface_tension > 0 && (m.liquid_fraction > 0 || m.liquid_volume > 0)))
         ctx.fail(f.path + ".capillary", f.mark,
                  "material '" + name +
@@ -964,6 +992,15 @@ struct Parser {
                  "material '" + m.name + "' has no density, needed by particles of groups." +
                      std::to_string(i),
                  "add density: <kg/m^3>");
+    }
+  }
+
+  // The scaling law against the contact law (core/scaling.hpp: check_scaling), reported at the law's key.
+  void check_scaling_for_laws() {
+    try {
+      check_scaling(scene);
+    } catch (const std::invalid_argument& e) {
+      ctx.fail("groups.0.coarse_grain.law", coarse_law_mark, e.what(), "");
     }
   }
 
@@ -992,6 +1029,7 @@ struct Parser {
     if (m.has("stability")) parse_stability(m.get("stability"));
     if (m.has("analyses")) parse_analyses(m.get("analyses"));
     check_materials_for_laws();
+    check_scaling_for_laws();
   }
 };
 

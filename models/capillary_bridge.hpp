@@ -1,5 +1,5 @@
 #pragma once
-// Liquid bridge, Rabinovich-Lambert (Hu eqs 19-21, 37, 42), physics.md 1:
+// Liquid bridge, Rabinovich-Lambert (Hu eqs 19-21, 37, 42), docs/physics.md 3:
 //   F_cap = 4 pi R* sigma cos(theta) / (1 + 1/(sqrt(1 + V/(pi R* S^2)) - 1))
 // evaluated here in the cancellation-free form 4 pi R* sigma cos(theta) q/(q + 1 + sqrt(1 + q)),
 // q = V/(pi R* S^2), which is the same expression multiplied through by (sqrt(1+q) + 1)/(sqrt(1+q) + 1).

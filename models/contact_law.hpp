@@ -1,7 +1,7 @@
 #pragma once
 // A contact law is composed at compile time from four components, one per axis:
 //   Normal      -> NormalResult from the overlap (HertzTsuji, LinearSpringDashpot, JkrFull, LinearEepa)
-//   Adhesion    -> an attractive normal force added to the normal law's (NoAdhesion, Dmt, JkrSimplified, CapillaryBridge)
+//   Adhesion    -> an attractive normal force added to the normal law's (NoAdhesion, Dmt, CapillaryBridge)
 //   Tangential  -> tangential force from its own spring history (NoFriction, MindlinTangential)
 //   Rolling     -> a resisting torque (NoRolling, RollingConstantTorque, RollingSpringDashpot)
 // Each component declares `static constexpr int history_size` (Reals per contact it keeps),
@@ -25,7 +25,8 @@ struct NoAdhesion {
   static constexpr const char* name = "none";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
   // Returns the attractive force (>= 0, pulling i toward j); may raise nr.friction_load.
-  KOKKOS_INLINE_FUNCTION Real operator()(const PairParameters&, const PairState&, NormalResult&, Real*) const {
+  KOKKOS_INLINE_FUNCTION Real operator()(const PairParameters&, const PairState&, NormalResult&,
+                                         Real*) const {
     return 0;
   }
 };
@@ -34,7 +35,8 @@ struct NoFriction {
   static constexpr int history_size = 0;
   static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "none";
-  KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters&, const PairState&, const NormalResult&, Real*) const {
+  KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters&, const PairState&, const NormalResult&,
+                                         Real*) const {
     return Vec3{};
   }
 };
@@ -43,18 +45,11 @@ struct NoRolling {
   static constexpr int history_size = 0;
   static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "none";
-  KOKKOS_INLINE_FUNCTION RollingTorque operator()(const PairParameters&, const PairState&, const NormalResult&,
-                                                  Real*) const {
+  KOKKOS_INLINE_FUNCTION RollingTorque operator()(const PairParameters&, const PairState&,
+                                                  const NormalResult&, Real*) const {
     return RollingTorque{};
   }
 };
-
-// Damping factor from a restitution coefficient (physics.md): beta = ln e / sqrt(ln^2 e + pi^2).
-inline Real damping_beta(Real restitution) {
-  if (restitution >= 1) return 0;
-  const Real l = std::log(restitution);
-  return l / std::sqrt(l * l + math::pi * math::pi);
-}
 
 // ---------------------------------------------------------------------------------------------------
 template <class Normal, class Adhesion = NoAdhesion, class Tangential = NoFriction, class Rolling = NoRolling>
@@ -89,7 +84,8 @@ struct ContactLaw {
   template <class Component>
   KOKKOS_INLINE_FUNCTION static void flip(Real* h) {
     if constexpr (Component::history_antisymmetric)
-      for (int k = 0; k < Component::history_size; ++k) h[k] = -h[k];
+      for (int k = 0; k < Component::history_size; ++k)
+        h[k] = -h[k];
   }
 
   static Real interaction_range(const PairParameters& p, Real R_i, Real R_j) {
@@ -100,13 +96,15 @@ struct ContactLaw {
 
   // Force and torque on i. `history` points at history_size Reals owned by this (i, j) slot; a law
   // that finds the pair inactive leaves its history zeroed so a later contact starts fresh.
-  KOKKOS_INLINE_FUNCTION ContactForce operator()(const PairParameters& p, const PairState& s, Real* history) const {
+  KOKKOS_INLINE_FUNCTION ContactForce operator()(const PairParameters& p, const PairState& s,
+                                                 Real* history) const {
     NormalResult nr = normal(p, s, history + normal_offset);
     const Real attraction = adhesion(p, s, nr, history + adhesion_offset);
     ContactForce out;
     if (!nr.active) {
       // Tangential and rolling springs only live while the pair touches; a liquid bridge may still pull.
-      for (int k = tangential_offset; k < history_size; ++k) history[k] = 0;
+      for (int k = tangential_offset; k < history_size; ++k)
+        history[k] = 0;
       out.force = attraction * s.normal;
       out.active = attraction > 0;
       return out;

@@ -2,7 +2,7 @@
 // What a contact law sees of one pair, and what it returns. Built by kernels/pair_forces.hpp and
 // kernels/wall_forces.hpp; a wall is a partner with infinite radius and mass (R_eff = R_i, m_eff = m_i).
 //
-// Conventions (physics.md): n is the unit normal from i to j; overlap > 0 in contact, < 0 is a gap;
+// Conventions (docs/physics.md 0): n is the unit normal from i to j; overlap > 0 in contact, < 0 is a gap;
 // overlap_rate > 0 while approaching; forces are returned as the force ON i.
 // The state of (j, i) is the exact negative of (i, j) in every vector, so that forces come out as
 // exact negatives and momentum is conserved to round-off.

@@ -1,5 +1,5 @@
 #pragma once
-// DMT adhesion (Derjaguin-Muller-Toporov), physics.md 1, used with HertzTsuji as the normal law:
+// DMT adhesion (Derjaguin-Muller-Toporov), docs/physics.md 3.4, used with HertzTsuji as the normal law:
 // a constant attraction 2 pi W R* = 4 pi gamma R* (W = 2 gamma) while the surfaces touch (delta >= 0),
 // nothing across a gap, no hysteresis, no history. The pull-off force is the attraction at delta = 0,
 // 4 pi gamma R* = 4/3 of the JKR F_c.

@@ -1,5 +1,5 @@
 #pragma once
-// The JKR overlap-contact radius relation shared by JkrFull and JkrSimplified (physics.md 1):
+// The JKR overlap-contact radius relation of JkrFull (docs/physics.md 3):
 //   delta(a) = a^2/R* - sqrt(4 pi gamma a / E*),   F(a) = 4 E* a^3/(3 R*) - sqrt(16 pi gamma E* a^3).
 // In the natural scales a_c = (pi gamma R*^2/E*)^(1/3), u = a_c^2/R* = (pi^2 gamma^2 R*/E*^2)^(1/3) and
 // F_c = 3 pi gamma R*, with x = a/a_c, both become parameter free:
@@ -17,6 +17,7 @@ constexpr Real x_S = 0.62996052494743658238;  // 2^(-2/3)
 constexpr Real d_S = -1.19055078897614960606; // 2^(-4/3) - 2^(2/3): delta_S / u
 constexpr Real x_A = 1.58740105196819947475;  // 2^(2/3): zero overlap
 constexpr Real x_C = 1.31037069710444830357;  // (3/2)^(2/3): pull-off
+constexpr Real d_C = -0.57235712127666593390; // x_C^2 - 2 sqrt(x_C): delta_C / u
 constexpr Real x_B = 2.08008382305190411453;  // 3^(2/3): zero force
 
 // Natural scales of one pair (host and device).

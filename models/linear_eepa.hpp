@@ -1,6 +1,6 @@
 #pragma once
 // Linear elasto-plastic adhesive normal contact: EEPA with n = 1 (Thakur; Thakur, Morrissey, Sun, Chen &
-// Ooi 2014), physics.md 1. With f0 <= 0 the constant pull-off and delta_p the plastic overlap (history):
+// Ooi 2014), docs/physics.md 3.6. With f0 <= 0 the constant pull-off and delta_p the plastic overlap (history):
 //   virgin loading     f_hys = f0 + k1 delta              when k2 (delta - delta_p) >= k1 delta;
 //                                                          here delta_p = delta (1 - k1/k2) is updated
 //   unloading/reloading f_hys = f0 + k2 (delta - delta_p)  when k1 delta > k2 (delta - delta_p) > -k_adh
@@ -10,8 +10,8 @@
 // the same k2 line, and the adhesive branch is followed reversibly below the crossing point
 // k2 delta_p/(k2 + k_adh). The force acts while delta > 0 (at delta -> 0 on the adhesive branch it tends
 // to f0) and is zero on separation, where the history is reset.
-//   F_n = f_hys + c_n delta_dot, c_n = 2 |beta| sqrt(m* k1) (= sqrt(4 m* k1)/sqrt(1 + (pi/ln e)^2)), not
-//   clamped. k_t = 2/7 k1, c_t = 2 |beta| sqrt(m* k_t); Coulomb load |f_hys + k_adh delta - f0|.
+//   F_n = f_hys + c_n delta_dot, c_n = eta sqrt(m* k1), eta = 2 |beta| (= sqrt(4 m* k1)/sqrt(1 + (pi/ln
+//   e)^2)), not clamped. k_t = 2/7 k1, c_t = eta sqrt(m* k_t); Coulomb load |f_hys + k_adh delta - f0|.
 // `stiffness` reports k1, the law's reference stiffness (the branch slope would be negative on the
 // adhesive branch). k2 < k1 (e.g. left unset) is taken as k2 = k1: elastic, no plastic overlap.
 //
@@ -48,10 +48,10 @@ struct LinearEepa {
     }
     h[0] = delta_p;
     const Real f_hys = p.eepa_f0 + f;
-    r.force = f_hys + 2 * -p.beta * math::sqrt(s.mass_eff * k1) * s.overlap_rate;
+    r.force = f_hys + p.damping * math::sqrt(s.mass_eff * k1) * s.overlap_rate;
     r.friction_load = math::fabs(f + k_adh * delta);
     r.k_t = (2.0 / 7.0) * k1;
-    r.c_t = 2 * -p.beta * math::sqrt(s.mass_eff * r.k_t);
+    r.c_t = p.damping * math::sqrt(s.mass_eff * r.k_t);
     r.stiffness = k1;
     r.active = true;
     return r;

@@ -1,6 +1,7 @@
 #pragma once
-// Linear spring-dashpot (Cundall-Strack): F_n = k_n delta + c_n delta_dot, c_n = 2 |beta| sqrt(m* k_n),
-// so the restitution equals the input exactly and t_c = pi / sqrt(k_n/m* - (c_n / 2m*)^2).
+// Linear spring-dashpot (Cundall-Strack): F_n = k_n delta + c_n delta_dot, c_n = eta sqrt(m* k_n) with
+// eta = 2 |beta| (core/restitution.hpp), so the restitution equals the input exactly and
+// t_c = pi / sqrt(k_n/m* - (c_n / 2m*)^2).
 // Tangential stiffness k_t (2/7 k_n when the scene leaves it out) with the same damping ratio.
 #include "models/contact_law.hpp"
 
@@ -15,12 +16,12 @@ struct LinearSpringDashpot {
   KOKKOS_INLINE_FUNCTION NormalResult operator()(const PairParameters& p, const PairState& s, Real*) const {
     NormalResult r;
     if (s.overlap <= 0) return r;
-    const Real c_n = 2 * -p.beta * math::sqrt(s.mass_eff * p.k_n);
+    const Real c_n = p.damping * math::sqrt(s.mass_eff * p.k_n);
     // No clamping here: the linear model's restitution is exact only with the full dashpot force.
     r.force = p.k_n * s.overlap + c_n * s.overlap_rate;
     r.friction_load = math::fabs(r.force);
     r.k_t = p.k_t;
-    r.c_t = 2 * -p.beta * math::sqrt(s.mass_eff * p.k_t);
+    r.c_t = p.damping * math::sqrt(s.mass_eff * p.k_t);
     r.stiffness = p.k_n;
     r.active = true;
     return r;

@@ -1,5 +1,5 @@
 #pragma once
-// Rolling resistance components (physics.md 1). Both return the torque on i; the (j, i) view of a pair
+// Rolling resistance components (docs/physics.md 3). Both return the torque on i; the (j, i) view of a pair
 // sees the negated relative rotation. The normal load |F_n| is taken as nr.friction_load: it equals the
 // normal force for the non-adhesive laws and is the effective (Coulomb) load of the adhesive ones
 // (Thornton & Yin's |F_JKR + 2 F_c|, EEPA's |f_hys + k_adh delta - f0|), so sliding and rolling resistance
@@ -10,7 +10,7 @@ namespace cgdem::models {
 
 // Constant directional torque, EDEM type A (Thakur eq 11):
 //   tau_r,i = -mu_r |F_n| R_i omega_i / |omega_i|
-// using the particle's OWN angular velocity omega_i (PairState::omega_i), as physics.md states, not the
+// using the particle's OWN angular velocity omega_i (PairState::omega_i), as docs/physics.md 3.8 states, not the
 // relative rotation omega_i - omega_j of the common CDT variant. Zero when omega_i = 0. No history.
 struct RollingConstantTorque {
   static constexpr int history_size = 0;

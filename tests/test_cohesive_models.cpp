@@ -1,18 +1,18 @@
-// Unit tests of the cohesive contact components (models/): full and simplified JKR, DMT, linear EEPA,
-// the Rabinovich-Lambert liquid bridge and the two rolling resistances, called directly on the host
-// (and once inside a Kokkos kernel). Reference values: docs/physics.md (shared), section 1.
+// Unit tests of the cohesive contact components (models/): full JKR with its three separation rules (Hu's
+// JKR among them), DMT, linear EEPA, the Rabinovich-Lambert liquid bridge and the two rolling resistances,
+// called directly on the host (and once inside a Kokkos kernel). Reference values: docs/physics.md.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <vector>
 
+#include "core/restitution.hpp"
 #include "models/capillary_bridge.hpp"
 #include "models/contact_law.hpp"
 #include "models/dmt.hpp"
 #include "models/hertz_tsuji.hpp"
 #include "models/jkr_full.hpp"
-#include "models/jkr_simplified.hpp"
 #include "models/linear_eepa.hpp"
 #include "models/linear_spring_dashpot.hpp"
 #include "models/mindlin_tangential.hpp"
@@ -25,8 +25,7 @@ using namespace cgdem::models;
 // Every component keeps exactly the per-contact state it needs.
 static_assert(ContactLaw<HertzTsuji>::history_size == 0);
 static_assert(ContactLaw<LinearSpringDashpot>::history_size == 0);
-static_assert(JkrFull::history_size == 2);       // bonded flag, previous contact radius
-static_assert(JkrSimplified::history_size == 0); // breaks at delta < 0, cold-started solve
+static_assert(JkrFull::history_size == 2); // bonded flag, previous contact radius
 static_assert(Dmt::history_size == 0);
 static_assert(LinearEepa::history_size == 1);      // plastic overlap
 static_assert(CapillaryBridge::history_size == 1); // bridge alive flag
@@ -48,14 +47,14 @@ struct Material {
   Real E, nu;
 };
 
-// Mixed parameters of two materials (physics.md: E*, G*).
+// Mixed parameters of two materials (docs/physics.md 0: E*, G*).
 PairParameters mixed(Material a, Material b, Real gamma, Real restitution = 1) {
   PairParameters p;
   p.E_eff = 1 / ((1 - a.nu * a.nu) / a.E + (1 - b.nu * b.nu) / b.E);
   p.G_eff = 1 / (2 * (2 - a.nu) * (1 + a.nu) / a.E + 2 * (2 - b.nu) * (1 + b.nu) / b.E);
   p.surface_energy = gamma;
   p.restitution = restitution;
-  p.beta = damping_beta(restitution);
+  p.damping = 2 * std::sqrt(5.0 / 6.0) * -restitution_beta(restitution); // Tsuji's, exact for JKR
   return p;
 }
 
@@ -338,8 +337,8 @@ TEST(JkrFull, DampingTangentialAndFrictionLoad) {
   const JkrSetup j0 = setup(jkr_cases[0]);
   PairParameters p = j0.p;
   p.restitution = 0.5;
-  p.beta = damping_beta(0.5);
-  const Real beta = std::fabs(p.beta);
+  const Real beta = -restitution_beta(0.5);
+  p.damping = 2 * std::sqrt(5.0 / 6.0) * beta;
   for (Real d : {-1.0, -0.3, 0.0, 1.0, 10.0}) {
     PairState s = j0.s;
     s.overlap = d * j0.u;
@@ -366,34 +365,44 @@ TEST(JkrFull, DampingTangentialAndFrictionLoad) {
 }
 
 // ---------------------------------------------------------------------------------------------------
-TEST(JkrSimplified, HertzPlusJkrAttractionBrokenBelowZero) {
+// Hu's JKR (section 2.3.2, eqs 5, 10, 11, 16, 23) is JkrFull with jkr_separation: contact_loss: one JKR
+// contact radius in the repulsion and the attraction, so for delta >= 0 the force is the full JKR curve
+// (-8/9 F_c at delta = 0), the Coulomb load is Thornton's |F + 2 F_c|, and nothing acts across a gap.
+TEST(JkrFull, ContactLossIsHusJkr) {
   for (const JkrCase& c : jkr_cases) {
-    const JkrSetup j = setup(c);
-    using Law = ContactLaw<HertzTsuji, JkrSimplified>;
-    Law law;
-    for (Real d : {0.0, 0.01, 0.5, 1.4422, 5.0, 50.0}) {
+    JkrSetup j = setup(c);
+    j.p.jkr_separation_overlap = 0;
+    EXPECT_EQ(JkrFull::interaction_range(j.p, j.R, 0), 0); // no reach beyond touching
+    ContactLaw<JkrFull> law;
+    // Loading from first touch, then unloading back through zero.
+    Real h[2] = {0, 0};
+    const Real path[] = {0.0, 0.01, 0.5, 1.4422, 5.0, 50.0, 5.0, 0.5, 0.0};
+    for (Real d : path) {
       PairState s = j.s;
       s.overlap = d * j.u;
-      NormalResult nr = HertzTsuji{}(j.p, s, nullptr);
-      const Real att = JkrSimplified{}(j.p, s, nr, nullptr);
-      // a from the attraction, then check it satisfies the JKR relation for this overlap.
-      const Real a = std::cbrt(std::pow(att / 4, 2) / (pi * j.gamma * j.Es));
-      EXPECT_LT(std::fabs(jkr_delta_of_a(j, a) - s.overlap) / std::max(s.overlap, j.u), 1e-10);
-      const Real hertz = 4.0 / 3.0 * j.Es * std::sqrt(j.R) * std::pow(s.overlap, 1.5);
-      const ContactForce f = law(j.p, s, nullptr);
+      const ContactForce f = law(j.p, s, h);
       EXPECT_TRUE(f.active);
-      EXPECT_NEAR(dot(f.force, s.normal), att - hertz, 1e-9 * j.F_c);
+      const Real a = h[1];
+      // a solves Hu's eq 11 (the JKR relation) for this overlap ...
+      EXPECT_LT(std::fabs(jkr_delta_of_a(j, a) - s.overlap) / std::max(s.overlap, j.u), 1e-10);
+      // ... and the force is eq 5 minus eq 23 with that one radius: the full JKR curve.
+      const Real F = 4 * j.Es * a * a * a / (3 * j.R) - std::sqrt(16 * pi * j.gamma * j.Es * a * a * a);
+      EXPECT_NEAR(-dot(f.force, s.normal), F, 1e-10 * j.F_c);
+      NormalResult nr = JkrFull{}(j.p, s, h);
+      EXPECT_NEAR(nr.friction_load, std::fabs(F + 2 * j.F_c), 1e-10 * j.F_c);
       if (d == 0) {
-        EXPECT_LT(rel(att, 8.0 / 3.0 * j.F_c), 1e-12);
-        std::printf("[%s] simplified JKR attraction at contact %.6g N = %.6f F_c\n", c.label, att,
-                    att / j.F_c);
+        EXPECT_LT(rel(-F, 8.0 / 9.0 * j.F_c), 1e-10);
+        std::printf("[%s] Hu's JKR at delta = 0: %.6f F_c\n", c.label, F / j.F_c);
       }
     }
+    // The bond breaks as soon as the overlap is lost, and the history is reset.
     PairState s = j.s;
     s.overlap = -1e-12 * j.u;
-    const ContactForce f = law(j.p, s, nullptr);
+    const ContactForce f = law(j.p, s, h);
     EXPECT_FALSE(f.active);
     EXPECT_EQ(norm(f.force), 0);
+    EXPECT_EQ(h[0], 0);
+    EXPECT_EQ(h[1], 0);
   }
 }
 
@@ -432,7 +441,7 @@ TEST(LinearEepa, FollowsPiecewiseLawThroughWholeLoop) {
   p.eepa_k2 = 2e4;
   p.eepa_k_adh = 2e3;
   p.eepa_f0 = -1e-3;
-  p.beta = 0;
+  p.damping = 0;
   const Real k1 = p.eepa_k1, k2 = p.eepa_k2, ka = p.eepa_k_adh, f0 = p.eepa_f0;
   const Real u = 1e-6;
   // Path (units of u): virgin loading, unloading, reloading along k2 and past the old maximum onto the
@@ -503,7 +512,7 @@ TEST(LinearEepa, DampingAndTangential) {
   p.eepa_k2 = 3e4;
   p.eepa_k_adh = 1e3;
   p.eepa_f0 = -2e-3;
-  p.beta = damping_beta(0.4);
+  p.damping = -2 * restitution_beta(0.4);
   PairState s = pair(1e-3, 2e-3, 3e-6);
   s.overlap_rate = -0.2;
   Real h[1] = {0}, h0[1] = {0};
@@ -676,7 +685,7 @@ TEST(CohesiveModels, ComposedLawRunsInKernel) {
   p.surface_energy = 0.05;
   p.mu_slide = 0.5;
   p.mu_roll = 0.1;
-  p.beta = damping_beta(0.7);
+  p.damping = 2 * std::sqrt(5.0 / 6.0) * -restitution_beta(0.7);
   const int n = 64;
   using Exec = Kokkos::DefaultExecutionSpace;
   Kokkos::View<Real**, Exec::memory_space> hist("cgdem::tests::history", n, FullLaw::history_size);
@@ -720,15 +729,15 @@ TEST(CohesiveModels, ComposedLawRunsInKernel) {
 // = -0.5724 u instead of delta_S; everything before that point is the same curve.
 TEST(JkrFull, PullOffSeparationRuleForLammpsComparisons) {
   JkrSetup j = setup(jkr_cases[0]);
-  j.p.jkr_separate_at_pull_off = 1;
-  const Real d_C = -0.57235 * j.u;  // physics.md table, 4 digits
+  j.p.jkr_separation_overlap = jkr::d_C;
+  const Real d_C = -0.57235 * j.u; // docs/physics.md table, 5 digits
   Real h[2] = {0, 0};
   EXPECT_TRUE(jkr_at(j, 0, h).active);
   EXPECT_TRUE(jkr_at(j, d_C * 0.999, h).active);
   EXPECT_FALSE(jkr_at(j, d_C * 1.001, h).active);
   EXPECT_EQ(h[0], 0);
   // The default rule keeps the bond there.
-  j.p.jkr_separate_at_pull_off = 0;
+  j.p.jkr_separation_overlap = jkr::d_S;
   Real g[2] = {0, 0};
   EXPECT_TRUE(jkr_at(j, 0, g).active);
   EXPECT_TRUE(jkr_at(j, d_C * 1.001, g).active);

@@ -17,7 +17,7 @@ using namespace cgdem::testing;
 
 namespace {
 
-// Analytic JKR quantities of a pair of spheres of one material (physics.md 1).
+// Analytic JKR quantities of a pair of spheres of one material (docs/physics.md 3).
 struct JkrPair {
   MaterialSpec mat;
   double r1 = 0, r2 = 0;
@@ -180,7 +180,7 @@ TEST(JkrCollision, EnergyLostInUndampedCollisionIsPeelingWork) {
 // ---------------------------------------------------------------------------------------------------
 namespace {
 
-// Rabinovich-Lambert bridge force (physics.md 1), written out independently of models/.
+// Rabinovich-Lambert bridge force (docs/physics.md 3), written out independently of models/.
 double bridge_force(double r_eff, double sigma, double theta, double volume, double s_min, double gap) {
   const double S = std::max(gap, s_min);
   return 4 * M_PI * r_eff * sigma * std::cos(theta) /

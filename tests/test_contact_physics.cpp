@@ -1,4 +1,4 @@
-// Binary impacts and sliding against the analytic values of physics.md (Hertz: Raman 1920; linear
+// Binary impacts and sliding against the analytic values of docs/physics.md (Hertz: Raman 1920; linear
 // spring-dashpot: exact restitution; Coulomb limit).
 #include <gtest/gtest.h>
 #include <cmath>

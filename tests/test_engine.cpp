@@ -318,7 +318,7 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   }
   const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.9, 0.3);
   Kokkos::View<models::PairParameters**, Mem> params("params", 1, 1);
-  params(0, 0) = mix_pair(m, m, false);
+  params(0, 0) = mix_pair(m, m, false, ContactSpec{});
   Kokkos::View<PlacedWall*, Mem> walls("walls", 0);
   Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history("wall_history", n, 0);
   Kokkos::View<Real* [3], Mem> no_record("no_record", 0);

@@ -90,12 +90,12 @@ TEST(ScalingLaws, EqualFactorsPairEqualsMixingScaledMaterials) {
   const int a = t.slot_of_group[0];
   const std::size_t ns = t.slots.size();
   const MaterialSpec ma = scale_material(s.materials[0], ScalingLaw::ChenElliott, 2);
-  const models::PairParameters ref = mix_pair(ma, ma, true);
+  const models::PairParameters ref = mix_pair(ma, ma, true, s.contact);
   const models::PairParameters& p = t.pair_params[a * ns + a];
   EXPECT_NEAR(p.E_eff / ref.E_eff, 1, 1e-14);
   EXPECT_NEAR(p.G_eff / ref.G_eff, 1, 1e-14);
   EXPECT_NEAR(p.surface_energy / ref.surface_energy, 1, 1e-14);
-  EXPECT_EQ(p.beta, ref.beta);
+  EXPECT_EQ(p.damping, ref.damping);
   EXPECT_EQ(p.mu_slide, ref.mu_slide);
   EXPECT_EQ(p.coarse_grain_factor, 2);
 }
@@ -106,7 +106,7 @@ TEST(ScalingLaws, MixedFactorsUseHarmonicPairFactorAndWallsTheParticles) {
   const std::size_t ns = t.slots.size();
   ASSERT_EQ(ns, 4u); // two factor-1 slots (walls) + (a, 2) + (a, 4)
   const int a = t.slot_of_group[0], b = t.slot_of_group[1];
-  const models::PairParameters orig = mix_pair(s.materials[0], s.materials[0], true);
+  const models::PairParameters orig = mix_pair(s.materials[0], s.materials[0], true, s.contact);
   const double kab = 2.0 * 2 * 4 / (2 + 4);
   EXPECT_DOUBLE_EQ(pair_scale_factor(2, 4), kab);
   const models::PairParameters& p = t.pair_params[a * ns + b];
@@ -116,7 +116,7 @@ TEST(ScalingLaws, MixedFactorsUseHarmonicPairFactorAndWallsTheParticles) {
   // Particle-wall: mixed with the unscaled wall material, then scaled with the particle's own factor, so
   // E* ~ k^2.5 and gamma ~ k^2 hold for the contact even though the wall is never scaled.
   const int steel = s.material_index("steel");
-  const models::PairParameters w_orig = mix_pair(s.materials[0], s.materials[steel], true);
+  const models::PairParameters w_orig = mix_pair(s.materials[0], s.materials[steel], true, s.contact);
   const models::PairParameters& w = t.wall_params[b * ns + steel];
   EXPECT_NEAR(w.E_eff / (w_orig.E_eff * std::pow(4.0, 2.5)), 1, 1e-14);
   EXPECT_NEAR(w.surface_energy / (w_orig.surface_energy * 16), 1, 1e-14);
@@ -185,7 +185,7 @@ models::PairParameters original_params() {
   m.surface_tension = 0.072;
   m.liquid_fraction = 0.083 * 0.05;
   m.min_separation = 1e-7;
-  return mix_pair(m, m, true);
+  return mix_pair(m, m, true, ContactSpec{});
 }
 
 // Coarse state of two equal spheres of coarse radius R (factor l each, or a wall when wall = true).
@@ -273,7 +273,7 @@ TEST(DirectForceScaling, SakaiIsOriginalContactForceTimesLCubedTorqueLToTheFourt
 }
 
 TEST(DirectForceScaling, HertzMindlinAnalyticPowersPerMethod) {
-  // F_S = l^f 4/3 E* sqrt(R*/l) (delta_S / l^o)^1.5, the table of physics.md 2 in closed form.
+  // F_S = l^f 4/3 E* sqrt(R*/l) (delta_S / l^o)^1.5, the table of docs/physics.md 4.2 in closed form.
   const models::PairParameters p = original_params();
   const double l = 4, R = 1e-3 * l, ov = 3e-6 * l;
   const auto hertz = [&](double r_eff, double d) {
@@ -376,7 +376,7 @@ TEST(ScalingTimeStep, RulePerLaw) {
 
 TEST(ScalingLaws, WarnsWhenTheContainerHoldsFewerThanFortyCoarseDiameters) {
   auto warnings = [](const std::string& body, const std::string& group) {
-    const std::string text = R"(materials: {m: {density: 1000, youngs_modulus: 1e6}}
+    const std::string text = R"(materials: {m: {density: 1000, youngs_modulus: 1e6, eepa: {k1: 1e4, k2: 2e4}}}
 gravity: [0, 0, -9.81]
 time: {end: 1}
 )" + body + "groups: [" + group +
@@ -409,7 +409,8 @@ time: {end: 1}
   EXPECT_NE(w[0].find("cylinder 'drum' diameter is 84 mm = 21 coarse diameters"), std::string::npos) << w[0];
   EXPECT_NE(w[0].find("use k <= 2.1"), std::string::npos) << w[0];
   // Thakur's box: side walls 50 mm apart, R 3.75 mm coarse particles: 6.67 across.
-  const std::string box = "domain: {lo: [-0.08, -0.08, 0], hi: [0.08, 0.08, 0.16]}\n"
+  const std::string box = "contact: {normal: eepa}\n"
+                          "domain: {lo: [-0.08, -0.08, 0], hi: [0.08, 0.08, 0.16]}\n"
                           "walls: [{name: left, material: m, point: [-0.025, 0, 0], normal: [1, 0, 0]},"
                           " {name: right, material: m, point: [0.025, 0, 0], normal: [-1, 0, 0]}]\n";
   w = warnings(box, group(0.0025, "thakur", 1.5));

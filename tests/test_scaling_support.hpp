@@ -21,13 +21,14 @@ struct ImpactSpec {
   double r1 = 0.5e-3, r2 = 1e-3; // ORIGINAL radii (r2 unused for a wall)
   double density = 2500, E = 1e6, nu = 0.3, gamma = 0.5, e = 1.0, mu = 0.0;
   double wall_E = 1e6, wall_nu = 0.3;
-  double speed = 0.4;                      // relative normal approach speed
-  double tangential_speed = 0;             // along y (oblique impact)
-  double dt = 0;                           // 0: Hertz contact time at `speed` of the ORIGINAL pair / 400
-  std::string contact = "jkr";             // normal law
-  double max_contact_times = 30;           // give up (stuck) after this many Hertz contact times in contact
-  bool record = false;                     // keep the time series
-  std::string lever_arm = "contact_point"; // contact.lever_arm
+  double speed = 0.4;             // relative normal approach speed
+  double tangential_speed = 0;    // along y (oblique impact)
+  double dt = 0;                  // 0: Hertz contact time at `speed` of the ORIGINAL pair / 400
+  std::string contact = "jkr";    // normal law
+  double max_contact_times = 30;  // give up (stuck) after this many Hertz contact times in contact
+  bool record = false;            // keep the time series
+  std::string lever_arm = "auto"; // contact.lever_arm
+  int torque_power = 0;           // coarse_grain.torque_power (hu_method1; 0: the method's)
 };
 
 struct ImpactSample {
@@ -67,7 +68,7 @@ inline double wall_tangential_stiffness(const ImpactSpec& c, double delta) {
   const double k = law == ScalingLaw::None ? 1.0 : c.k;
   const bool direct = is_direct(law);
   // As core/scaling.cpp builds the wall table: the mixed pair, scaled as a whole for a parameter law.
-  const models::PairParameters mixed = mix_pair(m, w, true);
+  const models::PairParameters mixed = mix_pair(m, w, true, ContactSpec{});
   const models::PairParameters p = direct ? mixed : scale_pair(mixed, law, k);
   const double R = direct ? c.r1 : k * c.r1, d = direct ? delta / k : delta;
   const double a = models::jkr::contact_radius(models::jkr::scales(p.surface_energy, p.E_eff, R), d, 0);
@@ -83,6 +84,7 @@ inline ImpactOutcome run_impact(const ImpactSpec& c) {
   s.groups[0].coarse_grain.law = c.law;
   s.groups[0].coarse_grain.factor = c.k;
   s.contact.lever_arm = c.lever_arm;
+  s.groups[0].coarse_grain.torque_power = c.torque_power;
   const double k = c.law == "none" ? 1.0 : c.k;
   const double R1 = k * c.r1, R2 = k * c.r2;
   const double m1 = sphere_mass(c.density, R1), m2 = c.wall ? 0 : sphere_mass(c.density, R2);

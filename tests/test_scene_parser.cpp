@@ -403,3 +403,55 @@ TEST(SceneParser, ExampleScenesAreValid) {
   }
   EXPECT_GE(n, 6);
 }
+
+// Hu's simplified JKR is the full JKR law with contact loss: the old adhesion name points there.
+TEST(SceneParser, JkrSimplifiedPointsToContactLoss) {
+  const std::string t = replaced(kBase, "normal: hertz", "normal: hertz\n  adhesion: jkr_simplified");
+  expect_error(t, line_of(t, "adhesion: jkr_simplified"), "contact.adhesion", "Hu's JKR",
+               "normal: jkr with jkr_separation: contact_loss");
+  const Scene s = parse_scene_text(
+      replaced(kBase, "normal: hertz", "normal: jkr\n  jkr_separation: contact_loss"), "scene.yaml");
+  EXPECT_EQ(s.contact.jkr_separation, "contact_loss");
+}
+
+// A parameter law does not scale liquid bridges: refused at the law's key, pointing to the direct laws.
+TEST(SceneParser, CapillaryWithParameterLawIsRefused) {
+  const std::string capillary =
+      replaced(kBase, "normal: hertz", "normal: hertz\n  adhesion: capillary\n  wall_adhesion: false");
+  EXPECT_EQ(error_of(capillary), ""); // the steel walls need no liquid without wall adhesion
+  for (const char* law : {"chen_elliott", "bond", "cohesion"}) {
+    const std::string t = replaced(
+        replaced(capillary, "    velocity: [0, 0, -0.1]",
+                 std::string("    velocity: [0, 0, -0.1]\n    coarse_grain: {law: ") + law + ", factor: 2}"),
+        "    placement: {type: lattice",
+        std::string("    coarse_grain: {law: ") + law + ", factor: 2}\n    placement: {type: lattice");
+    expect_error(t, line_of(t, std::string("law: ") + law), "groups.0.coarse_grain.law",
+                 "does not scale capillary bridges", "hu_method1, hu_method2, hu_method3 or sakai");
+  }
+  const std::string direct =
+      replaced(replaced(capillary, "    velocity: [0, 0, -0.1]",
+                        "    velocity: [0, 0, -0.1]\n    coarse_grain: {law: hu_method1, factor: 2}"),
+               "    placement: {type: lattice",
+               "    coarse_grain: {law: hu_method1, factor: 2}\n    placement: {type: lattice");
+  EXPECT_EQ(error_of(direct), "");
+}
+
+TEST(SceneParser, TorquePowerDampingAndLeverArm) {
+  const std::string hu = replaced(
+      replaced(kBase, "    velocity: [0, 0, -0.1]",
+               "    velocity: [0, 0, -0.1]\n    coarse_grain: {law: hu_method1, factor: 2, torque_power: 3}"),
+      "    placement: {type: lattice",
+      "    coarse_grain: {law: hu_method1, factor: 2, torque_power: 3}\n    placement: {type: lattice");
+  const Scene s = parse_scene_text(hu, "scene.yaml");
+  EXPECT_EQ(s.groups[0].coarse_grain.torque_power, 3);
+  const std::string t1 = replaced(hu, "torque_power: 3", "torque_power: 4");
+  expect_error(t1, line_of(t1, "torque_power: 4"), "groups.0.coarse_grain.torque_power", "is not 2 or 3",
+               "rotational similarity");
+  const std::string t2 = replaced(kBase, "normal: hertz", "normal: hertz\n  damping: tsuji");
+  expect_error(t2, line_of(t2, "damping: tsuji"), "contact.damping", "unknown damping rule", "beta_formula");
+  const Scene d = parse_scene_text(replaced(kBase, "normal: hertz", "normal: hertz\n  damping: beta_formula"),
+                                   "scene.yaml");
+  EXPECT_EQ(d.contact.damping, "beta_formula");
+  EXPECT_EQ(parse_scene_text(kBase, "scene.yaml").contact.damping, "restitution");
+  EXPECT_EQ(parse_scene_text(kBase, "scene.yaml").contact.lever_arm, "auto");
+}

@@ -705,7 +705,7 @@ TEST(StabilityHardCases, LargeFactorsEightAndSixteenKeepEachLawsInvariant) {
     e.eepa_k2 = 5e4;
     e.eepa_k_adh = 5e3;
     e.eepa_f0 = -0.4;
-    const models::PairParameters po = mix_pair(e, e, true);
+    const models::PairParameters po = mix_pair(e, e, true, ContactSpec{});
     const double overlaps[] = {1e-5, 8e-5, 2e-4, 1.2e-4, 3e-5, 5e-6, 1e-6, 1.5e-4};
     auto worst = [&](ScalingLaw law) {
       const models::PairParameters ps = scale_pair(po, law, k);

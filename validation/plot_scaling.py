@@ -63,11 +63,11 @@ def case_a(series, law, fname, title):
     plt.close(fig)
 
 
-def case_b(rows, law, lever, fname, title):
+def case_b(rows, law, lever, fname, title, torque_power="0"):
     """Chen case b (oblique wall impact): the four panels of the paper's figure."""
     series = defaultdict(list)
     for r in rows:
-        if r["law"] == law and r["lever_arm"] == lever:
+        if r["law"] == law and r["lever_arm"] == lever and r["torque_power"] == torque_power:
             series[float(r["k"])].append(r)
     if not series:
         return
@@ -151,12 +151,14 @@ def main():
     for law in ["bond", "cohesion", "hu_method1", "hu_method2", "hu_method3", "sakai"]:
         case_a(series, law, f"case_a_{law}.png", f"Chen case a, head-on JKR collision: {law} scaling, k = 1, 2, 4")
     b = read("case_b_series.csv")
-    case_b(b, "chen_elliott", "radius", "case_b_chen_elliott.png",
-           "Chen case b, oblique wall impact: Chen-Elliott, lever arm R (the law's), k = 1, 2, 4")
+    case_b(b, "chen_elliott", "auto", "case_b_chen_elliott.png",
+           "Chen case b, oblique wall impact: Chen-Elliott, lever arm R (the law's, default), k = 1, 2, 4")
     case_b(b, "chen_elliott", "contact_point", "case_b_chen_elliott_contact_point.png",
-           "Chen case b: Chen-Elliott with cgdem's default lever arm R - delta/2, k = 1, 2, 4")
+           "Chen case b: Chen-Elliott with the lever arm R - delta/2, k = 1, 2, 4")
     for law in ["bond", "cohesion", "hu_method1"]:
-        case_b(b, law, "contact_point", f"case_b_{law}.png", f"Chen case b, oblique wall impact: {law}, k = 1, 2, 4")
+        case_b(b, law, "auto", f"case_b_{law}.png", f"Chen case b, oblique wall impact: {law}, k = 1, 2, 4")
+    case_b(b, "hu_method1", "auto", "case_b_hu_method1_torque3.png",
+           "Chen case b: hu_method1 with torques l^3 (coarse_grain.torque_power: 3), l = 1, 2, 4", "3")
     sweep = by_law_k(read("case_c_sweep.csv"))
     case_c(sweep, ["chen_elliott", "bond", "cohesion"], "case_c_parameter_laws.png",
            "Chen case c, 1.27 um particle on a wall: parameter scaling laws")

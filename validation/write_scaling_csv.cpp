@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 #include "drivers/kokkos_session.hpp"
 #include "tests/test_scaling_support.hpp"
 
@@ -47,32 +48,42 @@ void case_a(const std::string& dir) {
     }
 }
 
-// Case b under every law, and under Chen-Elliott with both lever-arm conventions (law name suffixed).
+// Case b under every law with the default lever arm (auto: R under Chen-Elliott, R - delta/2 otherwise),
+// Chen-Elliott also with R - delta/2, and Hu Method 1 with both torque powers (2: Hu eq 30; 3).
 void case_b(const std::string& dir) {
   CsvFile series(dir + "/case_b_series.csv"), summary(dir + "/case_b_summary.csv");
   std::fprintf(series.f,
-               "law,lever_arm,k,time,normal_velocity,tangential_velocity,omega_times_k,"
+               "law,lever_arm,torque_power,k,time,normal_velocity,tangential_velocity,omega_times_k,"
                "tangential_force_over_Fc,normal_force_over_Fc,overlap,tangential_stiffness_over_k3\n");
-  std::fprintf(summary.f, "law,lever_arm,k,restitution,contact_time,max_overlap,tangential_velocity_after,"
-                          "omega_times_k_after\n");
-  for (const char* law : kLaws)
-    for (const char* lever : {"contact_point", "radius"}) {
-      if (std::string(lever) == "radius" && std::string(law) != "chen_elliott") continue;
+  std::fprintf(summary.f, "law,lever_arm,torque_power,k,restitution,contact_time,max_overlap,"
+                          "tangential_velocity_after,omega_times_k_after\n");
+  struct Variant {
+    const char* lever;
+    int torque_power;
+  };
+  for (const char* law : kLaws) {
+    std::vector<Variant> variants = {{"auto", 0}};
+    if (std::string(law) == "chen_elliott") variants.push_back({"contact_point", 0});
+    if (std::string(law) == "hu_method1") variants.push_back({"auto", 3});
+    for (const Variant& variant : variants) {
+      const char* lever = variant.lever;
       for (double k : {1.0, 2.0, 4.0}) {
         ImpactSpec c = chen_case_b(law, k);
         c.record = true;
         c.lever_arm = lever;
+        c.torque_power = variant.torque_power;
         c.max_contact_times = 60 * k;
         const ImpactOutcome o = run_impact(c);
         const double kk = std::string(law) == "none" ? 1.0 : k, k3 = kk * kk * kk;
         for (const ImpactSample& q : o.series)
-          std::fprintf(series.f, "%s,%s,%g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", law, lever, k, q.time,
-                       q.velocity, q.tangential_velocity, q.omega * kk, q.tangential_force / o.F_c,
-                       q.force / o.F_c, q.overlap, q.tangential_stiffness / k3);
-        std::fprintf(summary.f, "%s,%s,%g,%.9g,%.9g,%.9g,%.9g,%.9g\n", law, lever, k, o.restitution,
-                     o.contact_time, o.max_overlap, o.tangential_after, o.omega * kk);
+          std::fprintf(series.f, "%s,%s,%d,%g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", law, lever,
+                       variant.torque_power, k, q.time, q.velocity, q.tangential_velocity, q.omega * kk,
+                       q.tangential_force / o.F_c, q.force / o.F_c, q.overlap, q.tangential_stiffness / k3);
+        std::fprintf(summary.f, "%s,%s,%d,%g,%.9g,%.9g,%.9g,%.9g,%.9g\n", law, lever, variant.torque_power, k,
+                     o.restitution, o.contact_time, o.max_overlap, o.tangential_after, o.omega * kk);
       }
     }
+  }
 }
 
 void case_c(const std::string& dir) {

@@ -1,5 +1,5 @@
 #pragma once
-// Direct force scaling (Hu, Chan, Tsuji, Tanaka & Washino 2022; Sakai & Koshizuka 2009), physics.md 2:
+// Direct force scaling (Hu, Chan, Tsuji, Tanaka & Washino 2022; Sakai & Koshizuka 2009), docs/physics.md 4.2:
 // evaluate the ORIGINAL pair's force with the ORIGINAL parameters from the coarse pair's state, then scale
 // the force and torque up. DirectForceScaling<Method, Law> wraps any ContactLaw<...> and is itself a law
 // (same interface: history_size, interaction_range, const device call operator).
@@ -11,7 +11,10 @@
 //   overlap / separation: delta_O = delta_S / l^overlap_power (geometric similarity for Hu methods 1 and 3,
 //   unchanged for method 2 and Sakai).
 // Coarse force F_S = l^force_power F_O (Sakai: the adhesion component l^adhesion_power), torque
-// M_S = l^torque_power M_O with M_O the wrapped law's torque (lever R_O - delta_O / 2).
+// M_S = l^torque_power M_O with M_O the wrapped law's torque (lever R_O - delta_O / 2). The pair table's
+// torque_power, when set, replaces the method's: Hu's eq 30 gives Method 1 l^2, but with t_S = l t_O the
+// coarse spin omega_S = omega_O / l stays similar to the original's only with l^3
+// (coarse_grain.torque_power: 3).
 //
 // History: the wrapped law's slots, same size and meaning, holding the ORIGINAL contact's state (JKR bond
 // flag and contact radius a_O, bridge flag, tangential spring displacement xi_O). Tangential displacement
@@ -100,18 +103,20 @@ struct DirectForceScaling {
                                                  Real* history) const {
     const Real l = pair_factor(s.scale_i, s.scale_j);
     const PairState o = original_state<Method>(s, l);
+    const Real torque_scale =
+        power(l, p.torque_power > 0 ? static_cast<int>(p.torque_power) : Method::torque_power);
     if constexpr (Method::adhesion_power == Method::force_power) {
       ContactForce cf = law(p, o, history);
       cf.force *= power(l, Method::force_power);
-      cf.torque *= power(l, Method::torque_power);
-      cf.torque_j *= power(l, Method::torque_power);
+      cf.torque *= torque_scale;
+      cf.torque_j *= torque_scale;
       return cf;
     } else {
       // The adhesion component scales differently (Sakai): the wrapped ContactLaw's composition, with the
       // contact (normal law + tangential) and adhesion parts scaled separately. Keep in step with
       // ContactLaw::operator() (models/contact_law.hpp).
       const Real fc = power(l, Method::force_power), fa = power(l, Method::adhesion_power);
-      const Real ft_scale = power(l, Method::torque_power);
+      const Real ft_scale = torque_scale;
       NormalResult nr = law.normal(p, o, history + Law::normal_offset);
       const Real attraction = law.adhesion(p, o, nr, history + Law::adhesion_offset);
       ContactForce out;
