@@ -26,21 +26,30 @@ RunOptions parse_run_options(const std::vector<std::string>& args, bool run_opti
       return args[++k];
     };
     const std::string name = a.substr(0, a.find('='));
-    if (name == "--set") o.overrides.push_back(value());
+    if (name == "--set")
+      o.overrides.push_back(value());
     else if (name == "--threads") {
       const double t = to_number(name, value());
       if (t < 1 || t != static_cast<int>(t)) throw CliError("--threads expects a positive integer");
       o.threads = static_cast<int>(t);
-    } else if (name == "--backend") o.backend = value();
-    else if (run_options && name == "--out") o.out = value();
+    } else if (name == "--backend")
+      o.backend = value();
+    else if (run_options && name == "--out")
+      o.out = value();
     else if (run_options && name == "--checkpoint-every") {
       o.checkpoint_every = to_number(name, value());
-      if (o.checkpoint_every <= 0) throw CliError("--checkpoint-every expects a positive simulated time in seconds");
-    } else if (run_options && name == "--restart") o.restart = value();
-    else if (run_options && (name == "--quiet" || name == "-q")) o.quiet = true;
-    else if (!a.empty() && a[0] == '-') throw CliError("unknown option '" + a + "' (see --help)");
-    else if (o.scene.empty()) o.scene = a;
-    else throw CliError("unexpected argument '" + a + "': one scene file per run (use 'cgdem sweep' for many)");
+      if (o.checkpoint_every <= 0)
+        throw CliError("--checkpoint-every expects a positive simulated time in seconds");
+    } else if (run_options && name == "--restart")
+      o.restart = value();
+    else if (run_options && (name == "--quiet" || name == "-q"))
+      o.quiet = true;
+    else if (!a.empty() && a[0] == '-')
+      throw CliError("unknown option '" + a + "' (see --help)");
+    else if (o.scene.empty())
+      o.scene = a;
+    else
+      throw CliError("unexpected argument '" + a + "': one scene file per run (use 'cgdem sweep' for many)");
   }
   if (o.scene.empty()) throw CliError("no scene file given (see --help)");
   return o;
@@ -90,8 +99,11 @@ Options:
                          uninterrupted run
   --quiet                no progress line
 
-Exit codes: 0 done, 2 bad input (one line naming the file, key and fix), 3 numerical blow-up
-(step, particle, neighbours and likely cause; the last good frame stays in the file).
+Exit codes: 0 done, 2 bad input (one line naming the file, key and fix; also an output path that cannot
+be written, a corrupt particle file or checkpoint, a scene needing more memory than the machine has),
+3 numerical blow-up (step, particle, neighbours and likely cause; the last good frame stays in the file),
+4 output write failed during the run (disk full, file removed: the file keeps every completed frame and
+a checkpoint of the current state is written when --checkpoint-every was given).
 
 Examples:
   cgdem run scenes/pile_in_cylinder.yaml

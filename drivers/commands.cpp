@@ -1,6 +1,7 @@
 #include "drivers/commands.hpp"
 #include "drivers/kokkos_session.hpp"
 #include <Kokkos_Core.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
@@ -18,6 +19,7 @@
 #include "drivers/engine_setup.hpp"
 #include "drivers/resolution_check.hpp"
 #include "drivers/particle_generation.hpp"
+#include "drivers/preflight.hpp"
 #include "drivers/scene_parser.hpp"
 #include "kernels/engine.hpp"
 
@@ -25,8 +27,10 @@ namespace cgdem {
 
 namespace {
 
-constexpr int exit_bad_input = 2;
-constexpr int exit_blow_up = 3;
+// A result or checkpoint write that failed during the run (disk full, file removed, ...).
+struct OutputFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
 
 bool wants_help(const std::vector<std::string>& args) {
   for (const auto& a : args)
@@ -190,7 +194,14 @@ int run_command(const std::vector<std::string>& args) {
     p.particles = ParticleSet{};
     engine = make_engine(p.config, backend);
     p.config.particles = ParticleSet{};
-    if (!o.restart.empty()) restart = read_checkpoint(o.restart);
+    if (!o.restart.empty()) {
+      restart = read_checkpoint(o.restart);
+      try {
+        engine->restore(restart);
+      } catch (const std::runtime_error& e) {
+        throw std::runtime_error("cannot restart from '" + o.restart + "': " + e.what());
+      }
+    }
   } catch (const SceneError& e) {
     std::cerr << "cgdem: " << e.what() << "\n";
     return exit_bad_input;
@@ -198,7 +209,6 @@ int run_command(const std::vector<std::string>& args) {
     std::cerr << "cgdem: " << o.scene << ": " << e.what() << "\n";
     return exit_bad_input;
   }
-  if (!o.restart.empty()) engine->restore(restart);
 
   const double dt = p.dt.step;
   const long end_step = static_cast<long>(std::ceil(p.scene.time.end / dt - 1e-9));
@@ -207,23 +217,15 @@ int run_command(const std::vector<std::string>& args) {
   const long checkpoint_every =
       o.checkpoint_every > 0 ? std::max(1L, std::lround(o.checkpoint_every / dt)) : 0;
   const std::string out = o.out.empty() ? p.scene.output.file : o.out;
-  // An unwritable destination is bad input: say so before any work, not as an exception from the writer.
+  // Every file the run will write is checked before any work: a bad destination is bad input.
   {
-    const std::filesystem::path dir = std::filesystem::absolute(out).parent_path();
-    std::error_code ec;
-    if (!std::filesystem::is_directory(dir, ec)) {
-      std::fprintf(stderr,
-                   "cgdem: %s: output directory '%s' does not exist; create it (mkdir -p) or choose "
-                   "another path with --out or output.file\n",
-                   out.c_str(), dir.string().c_str());
-      return exit_bad_input;
-    }
-    if (access(dir.c_str(), W_OK) != 0) {
-      std::fprintf(stderr,
-                   "cgdem: %s: output directory '%s' is not writable; choose another path with --out\n",
-                   out.c_str(), dir.string().c_str());
-      return exit_bad_input;
-    }
+    std::vector<std::string> files = {out, xdmf_path_for(out)};
+    if (checkpoint_every > 0) files.push_back(checkpoint_path_for(out));
+    for (const std::string& f : files)
+      if (const std::string problem = output_file_problem(f); !problem.empty()) {
+        std::fprintf(stderr, "cgdem: %s\n", problem.c_str());
+        return exit_bad_input;
+      }
   }
 
   RunInfo info;
@@ -235,7 +237,14 @@ int run_command(const std::vector<std::string>& args) {
   info.scaling_law = p.scene.groups.empty() ? "none" : p.scene.groups.front().coarse_grain.law;
   info.scale_factor = p.scene.groups.empty() ? 1.0 : p.scene.groups.front().coarse_grain.factor;
   info.wall_names = p.config.wall_names;
-  ResultWriter writer(out, info, p.scene.output.fields);
+  std::unique_ptr<ResultWriter> writer_ptr;
+  try {
+    writer_ptr = std::make_unique<ResultWriter>(out, info, p.scene.output.fields);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "cgdem: output write failed: %s\n", e.what());
+    return exit_write_failed;
+  }
+  ResultWriter& writer = *writer_ptr;
 
   const int n = engine->size();
   std::fprintf(stderr, "cgdem %s: %s, %d particles, %s on %s (%d threads), dt = %.4g s (%s)\n", CGDEM_VERSION,
@@ -250,11 +259,53 @@ int run_command(const std::vector<std::string>& args) {
     escapes.check(frame);
     SeriesRow row = series_row(obs);
     run_analyses(analyses, AnalysisInput{frame, obs.time, info.wall_names, obs.wall_force}, row.analyses);
-    writer.write_frame(std::move(frame));
-    writer.write_series(std::move(row));
+    try {
+      writer.write_frame(std::move(frame));
+      writer.write_series(std::move(row));
+    } catch (const std::runtime_error& e) {
+      throw OutputFailure(e.what());
+    }
     return obs;
   };
-  emit();
+  const std::string checkpoint_path = checkpoint_path_for(out);
+  auto checkpoint = [&]() {
+    try {
+      write_checkpoint(checkpoint_path, engine->checkpoint());
+    } catch (const std::runtime_error& e) {
+      throw OutputFailure(e.what());
+    }
+  };
+  // A failed write stops the run: the result file keeps every frame committed before the failure (the
+  // writer never touches the visible file), and a checkpoint of the current state is attempted when asked
+  // for.
+  auto write_failed = [&](std::string what) {
+    std::replace(what.begin(), what.end(), '\n', ' '); // HDF5's messages carry a time stamp with a newline
+    std::fprintf(stderr, "\ncgdem: output write failed at step %ld: %s\n", engine->step(), what.c_str());
+    try {
+      writer.close();
+    } catch (const std::exception&) { // the same failure, already reported
+    }
+    std::string saved;
+    if (checkpoint_every > 0 && what.find(checkpoint_path) == std::string::npos) {
+      try {
+        write_checkpoint(checkpoint_path, engine->checkpoint());
+        saved = "; checkpoint of step " + std::to_string(engine->step()) + " in " + checkpoint_path;
+      } catch (const std::exception& e) {
+        saved = "; the checkpoint failed too: " + std::string(e.what());
+      }
+    } else if (checkpoint_every > 0) {
+      saved = "; " + checkpoint_path + " holds the previous checkpoint";
+    }
+    std::replace(saved.begin(), saved.end(), '\n', ' ');
+    std::fprintf(stderr, "cgdem: %s keeps %lld complete frames%s\n", writer.path().c_str(),
+                 static_cast<long long>(writer.frames_written()), saved.c_str());
+    return exit_write_failed;
+  };
+  try {
+    emit();
+  } catch (const OutputFailure& e) {
+    return write_failed(e.what());
+  }
 
   using clock = std::chrono::steady_clock;
   const auto start = clock::now();
@@ -281,8 +332,7 @@ int run_command(const std::vector<std::string>& args) {
           break;
         }
       }
-      if (checkpoint_every > 0 && s % checkpoint_every == 0)
-        write_checkpoint(checkpoint_path_for(out), engine->checkpoint());
+      if (checkpoint_every > 0 && s % checkpoint_every == 0) checkpoint();
       const auto now = clock::now();
       // A terminal gets a line rewritten every second; a log file a new line every 10 seconds.
       if (!o.quiet &&
@@ -296,12 +346,22 @@ int run_command(const std::vector<std::string>& args) {
                      human_duration(eta).c_str(), interactive ? "" : "\n");
       }
     }
+    try {
+      writer.flush();
+    } catch (const std::runtime_error& e) {
+      throw OutputFailure(e.what());
+    }
   } catch (const BlowUpError& e) {
-    writer.flush();
+    try {
+      writer.flush();
+    } catch (const std::exception& w) {
+      std::fprintf(stderr, "\ncgdem: output write failed too: %s\n", w.what());
+    }
     std::fprintf(stderr, "\ncgdem: %s\n", e.what());
     return exit_blow_up;
+  } catch (const OutputFailure& e) {
+    return write_failed(e.what());
   }
-  writer.flush();
   const double wall = std::chrono::duration<double>(clock::now() - start).count();
   const long steps = engine->step() - first_step;
   const StepTimers t = engine->timers();

@@ -1,4 +1,5 @@
 // cgdem: the batch executable. Dispatches to the commands in drivers/commands.cpp.
+#include <hdf5.h>
 #include <cstring>
 #include <iostream>
 #include <string>
@@ -9,7 +10,11 @@
 #include "drivers/stability_command.hpp"
 
 int main(int argc, char** argv) {
-  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+  // No HDF5 clean-up at exit: after a write failed (disk full) HDF5 keeps the file whose close failed and
+  // crashes closing it again at exit. Every file cgdem writes is closed and fsync'ed explicitly before.
+  H5dont_atexit();
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") ||
+      !std::strcmp(argv[1], "help")) {
     std::cout << cgdem::main_help();
     return argc < 2 ? 2 : 0;
   }
@@ -21,6 +26,7 @@ int main(int argc, char** argv) {
   if (command == "info") return cgdem::info_command(args);
   if (command == "sweep") return cgdem::sweep_command(args);
   if (command == "stability") return cgdem::stability_command(args);
-  std::cerr << "cgdem: unknown command '" << command << "'; commands: run, check, info, sweep (see cgdem --help)\n";
+  std::cerr << "cgdem: unknown command '" << command
+            << "'; commands: run, check, info, sweep (see cgdem --help)\n";
   return 2;
 }

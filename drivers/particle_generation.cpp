@@ -1,5 +1,6 @@
 // Initial particles from the scene's groups. See drivers/particle_generation.hpp.
 #include "drivers/particle_generation.hpp"
+#include "drivers/preflight.hpp"
 
 #include <hdf5.h>
 
@@ -530,8 +531,32 @@ std::string where_of(const Scene& scene, const ParticleSet& ps, std::size_t i, s
 
 } // namespace
 
+namespace {
+
+// Refuses a scene whose particles cannot fit in memory before they are allocated, naming the largest group.
+void check_memory(const Scene& scene, const std::vector<double>& counts) {
+  double total = 0;
+  std::size_t largest = 0;
+  for (std::size_t gi = 0; gi < counts.size(); ++gi) {
+    total += counts[gi];
+    if (counts[gi] > counts[largest]) largest = gi;
+  }
+  const std::string what = memory_shortfall(total);
+  if (!what.empty())
+    group_fail(scene.groups[largest], largest, "count", what,
+               "lower the count, or coarse-grain the group (groups.N.coarse_grain)");
+}
+
+} // namespace
+
 ParticleSet generate_particles(const Scene& scene) {
   const std::size_t ng = scene.groups.size();
+  {
+    std::vector<double> counts(ng, 0.0);
+    for (std::size_t gi = 0; gi < ng; ++gi)
+      if (scene.groups[gi].placement.kind != "file") counts[gi] = double(scene.groups[gi].count);
+    if (ng > 0) check_memory(scene, counts);
+  }
   std::vector<GroupParticles> gp(ng);
   std::vector<std::vector<double>> radii(ng);
   double rmax = 0;
@@ -550,6 +575,13 @@ ParticleSet generate_particles(const Scene& scene) {
       for (double v : radii[gi])
         rmax = std::max(rmax, v);
     }
+  }
+  {
+    std::vector<double> counts(ng, 0.0);
+    for (std::size_t gi = 0; gi < ng; ++gi)
+      counts[gi] = scene.groups[gi].placement.kind == "file" ? double(gp[gi].radius.size())
+                                                             : double(scene.groups[gi].count);
+    if (ng > 0) check_memory(scene, counts); // now with the particle files' counts
   }
   // Place: file particles first (fixed), then the generated groups in order, each avoiding the earlier ones.
   CellGrid grid(scene.domain, 2 * rmax);
@@ -723,10 +755,12 @@ RelaxReport relax_overlaps(const Scene& scene, ParticleSet& ps) {
   if (n == 0) return report;
   const DomainSpec& d = scene.domain;
   double rmax = 0;
-  for (double r : ps.radius) rmax = std::max(rmax, r);
+  for (double r : ps.radius)
+    rmax = std::max(rmax, r);
   const double cell = 2 * rmax;
   std::array<long, 3> dims{};
-  for (int a = 0; a < 3; ++a) dims[a] = std::max(1L, static_cast<long>((d.hi[a] - d.lo[a]) / cell));
+  for (int a = 0; a < 3; ++a)
+    dims[a] = std::max(1L, static_cast<long>((d.hi[a] - d.lo[a]) / cell));
   auto axis_cell = [&](double x, int a) {
     long c = static_cast<long>((x - d.lo[a]) / (d.hi[a] - d.lo[a]) * dims[a]);
     return std::min(std::max(c, 0L), dims[a] - 1);
@@ -736,7 +770,8 @@ RelaxReport relax_overlaps(const Scene& scene, ParticleSet& ps) {
     std::unordered_map<long, std::vector<std::size_t>> grid;
     std::vector<std::array<long, 3>> at(n);
     for (std::size_t i = 0; i < n; ++i) {
-      for (int a = 0; a < 3; ++a) at[i][a] = axis_cell(ps.position[i][a], a);
+      for (int a = 0; a < 3; ++a)
+        at[i][a] = axis_cell(ps.position[i][a], a);
       grid[(at[i][2] * dims[1] + at[i][1]) * dims[0] + at[i][0]].push_back(i);
     }
     std::fill(shift.begin(), shift.end(), Vec3d{0, 0, 0});
@@ -780,7 +815,8 @@ RelaxReport relax_overlaps(const Scene& scene, ParticleSet& ps) {
     report.sweeps = sweep;
     if (worst < 1e-6) break;
     for (std::size_t i = 0; i < n; ++i)
-      for (int a = 0; a < 3; ++a) ps.position[i][a] += shift[i][a];
+      for (int a = 0; a < 3; ++a)
+        ps.position[i][a] += shift[i][a];
   }
   return report;
 }

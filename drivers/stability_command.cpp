@@ -13,13 +13,12 @@
 #include "drivers/cli.hpp"
 #include "drivers/engine_setup.hpp"
 #include "drivers/particle_generation.hpp"
+#include "drivers/preflight.hpp"
 #include "drivers/scene_parser.hpp"
 
 namespace cgdem {
 
 namespace {
-
-constexpr int exit_bad_input = 2;
 
 bool compiled(const ContactSpec& c) {
   const std::string name = physics_name(c);
@@ -312,8 +311,11 @@ std::string write_stability_report(const std::string& dir, const std::string& sc
                     int(p.blew_up), int(p.stable));
       out << line;
     }
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + csv);
   }
-  std::ofstream md((std::filesystem::path(dir) / "summary.md").string());
+  const std::string md_path = (std::filesystem::path(dir) / "summary.md").string();
+  std::ofstream md(md_path);
   char buf[512];
   md << "# Stability scan of " << scene_name << "\n\n";
   std::snprintf(
@@ -340,6 +342,8 @@ std::string write_stability_report(const std::string& dir, const std::string& sc
          << "\n";
       break;
     }
+  md.close();
+  if (!md) throw std::runtime_error("cannot write " + md_path);
   return csv;
 }
 
@@ -472,13 +476,23 @@ int stability_command(const std::vector<std::string>& args) {
     }
     const std::string stem = std::filesystem::path(scene_path).stem().string();
     if (out.empty()) out = "stability_" + stem;
+    if (const std::string problem = output_dir_problem(out); !problem.empty()) {
+      std::cerr << "cgdem stability: " << problem << "\n";
+      return exit_bad_input;
+    }
     std::fprintf(
         stderr,
         "cgdem stability: %s, %zu particles; Rayleigh time %.4g s, contact time %.4g s, stable limit "
         "%.4g s, auto step %.4g s\n",
         scene_path.c_str(), particles.size(), est.rayleigh_time, est.contact_time, est.limit, est.step);
     const StabilityResult r = stability_scan(scene, particles, settings);
-    const std::string csv = write_stability_report(out, scene_path, r, settings);
+    std::string csv;
+    try {
+      csv = write_stability_report(out, scene_path, r, settings);
+    } catch (const std::exception& e) {
+      std::cerr << "cgdem stability: output write failed: " << e.what() << "\n";
+      return exit_write_failed;
+    }
     auto report = [&](const char* name, double crit, double unst) {
       if (crit > 0)
         std::printf("largest stable step (%s): %.4g s = %.4f Rayleigh times = %.4f contact times "

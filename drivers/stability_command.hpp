@@ -73,7 +73,8 @@ StabilityProbe stability_probe(const Scene& scene, const ParticleSet& particles,
 StabilityResult stability_scan(const Scene& scene, const ParticleSet& particles,
                                const StabilitySettings& settings);
 
-// Writes DIR/stability.csv (one row per probe) and DIR/summary.md; returns the CSV path.
+// Writes DIR/stability.csv (one row per probe) and DIR/summary.md; returns the CSV path. Throws
+// std::runtime_error naming the file when one cannot be written in full.
 std::string write_stability_report(const std::string& dir, const std::string& scene_name,
                                    const StabilityResult& r, const StabilitySettings& settings);
 

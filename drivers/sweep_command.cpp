@@ -1,4 +1,5 @@
 #include "drivers/sweep_command.hpp"
+#include "drivers/preflight.hpp"
 #include <fcntl.h>
 #include <hdf5.h>
 #include <sys/prctl.h>
@@ -36,7 +37,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr int exit_bad_input = 2;
 // Measured on the tiny scene (docs/sweeps.md, "Scheduling"): one single-threaded process per core beat one
 // run at a time on all threads.
 constexpr const char* kAutoPolicy = "parallel";
@@ -689,6 +689,10 @@ int sweep_command(const std::vector<std::string>& args) {
     return exit_bad_input;
   }
   SweepOptions& o = s.o;
+  if (const std::string problem = output_dir_problem(o.out); !problem.empty()) {
+    std::cerr << "cgdem sweep: " << problem << "\n";
+    return exit_bad_input;
+  }
   std::vector<RunPlan> plans;
   try {
     s.scene = parse_scene_file(o.scene, o.overrides);
@@ -732,8 +736,15 @@ int sweep_command(const std::vector<std::string>& args) {
   s.dir = fs::absolute(o.out);
   s.exe = self_exe();
   s.scene_abs = fs::absolute(o.scene).string();
-  fs::create_directories(s.dir / "records");
-  fs::create_directories(s.dir / "runs");
+  {
+    std::error_code ec;
+    fs::create_directories(s.dir / "records", ec);
+    if (!ec) fs::create_directories(s.dir / "runs", ec);
+    if (ec) {
+      std::cerr << "cgdem sweep: cannot create " << s.dir.string() << ": " << ec.message() << "\n";
+      return exit_write_failed;
+    }
+  }
 
   std::vector<RunPlan> pending;
   for (const auto& p : plans) {

@@ -44,9 +44,10 @@ protected:
   }
   void TearDown() override { fs::remove_all(dir); }
 
-  Result cgdem(const std::string& args) {
-    const std::string cmd = "cd '" + dir.string() + "' && OMP_PROC_BIND=false '" CGDEM_BINARY "' " + args +
-                            " > stdout.txt 2> stderr.txt";
+  // shell_prefix runs in the same shell before cgdem (e.g. a ulimit that cgdem inherits).
+  Result cgdem(const std::string& args, const std::string& shell_prefix = "") {
+    const std::string cmd = "cd '" + dir.string() + "' && " + shell_prefix +
+                            " OMP_PROC_BIND=false '" CGDEM_BINARY "' " + args + " > stdout.txt 2> stderr.txt";
     const int status = std::system(cmd.c_str());
     Result r;
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
@@ -387,4 +388,153 @@ TEST_F(CliTest, ParticlesLeavingTheDomainAreReportedOnceAndCounted) {
   const Result ok = cgdem("run drop.yaml --quiet --set time.end=0.02");
   EXPECT_EQ(ok.code, 0) << ok.err;
   EXPECT_EQ(ok.err.find("outside the domain"), std::string::npos) << ok.err;
+}
+
+// ------------------------------------------------------------------------------------------------
+// Reliability (docs/reliability.md): bad output paths, scenes too large for the machine, a full disk and
+// truncated or corrupt inputs each end in one clear message and an exit code, never an abort.
+
+std::size_t lines(const std::string& s) {
+  return static_cast<std::size_t>(std::count(s.begin(), s.end(), '\n'));
+}
+
+TEST_F(CliTest, OutputPathsAreCheckedBeforeTheRun) {
+  write("base.yaml", drop_scene);
+  write("plain", "a file, not a directory\n");
+  fs::create_directory(dir / "outdir");
+  fs::create_directory(dir / "cp.checkpoint.h5");
+  fs::create_directory(dir / "x.xdmf");
+  struct Case {
+    std::string args, names;
+  };
+  const std::vector<Case> cases = {
+      {"run base.yaml --out outdir", "outdir"},             // an existing directory
+      {"run base.yaml --out plain/r.h5", "plain"},          // a file as the parent
+      {"run base.yaml --out /proc/cgdem_test.h5", "/proc"}, // cannot be written, even by root
+      {"run base.yaml --out cp.h5 --checkpoint-every 0.01", "cp.checkpoint.h5"}, // checkpoint name taken
+      {"run base.yaml --out x.h5", "x.xdmf"},                                    // XDMF name taken
+      {"sweep base.yaml --laws bond --k 2 --out plain", "plain"},
+      {"stability base.yaml --dts 1e-6,2e-6 --out plain", "plain"},
+      {"stability base.yaml --dts 1e-6,2e-6 --out /proc/cgdem_stab", "/proc"},
+  };
+  for (const Case& c : cases) {
+    const Result r = cgdem(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << c.args << ": " << r.err;
+    EXPECT_NE(r.err.find(c.names), std::string::npos) << c.args << ": " << r.err;
+  }
+  EXPECT_TRUE(fs::is_empty(dir / "outdir"));
+  EXPECT_FALSE(fs::exists(dir / "cp.h5"));
+  EXPECT_FALSE(fs::exists(dir / "x.h5"));
+}
+
+TEST_F(CliTest, SceneTooLargeForTheMachineIsRefusedWithBothFigures) {
+  write("base.yaml", drop_scene);
+  for (const char* command : {"check", "run"}) {
+    const Result r = cgdem(std::string(command) + " base.yaml --set groups.0.count=1000000000000" +
+                           (command == std::string("run") ? " --out big.h5" : ""));
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << r.err;
+    EXPECT_NE(r.err.find("groups.0.count"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("need at least"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("this machine has"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find("bad_alloc"), std::string::npos) << r.err;
+  }
+  EXPECT_FALSE(fs::exists(dir / "big.h5"));
+}
+
+// A full disk, simulated by a file-size limit (RLIMIT_FSIZE with SIGXFSZ ignored, so writes fail with EFBIG):
+// exit code 4, the result file holds every frame committed before, and the checkpoint asked for is written.
+TEST_F(CliTest, FullDiskStopsTheRunKeepingEveryFrameAndACheckpoint) {
+  write("base.yaml", drop_scene);
+  const std::string args =
+      "run base.yaml --quiet --threads 1 --out full.h5 --set time.end=0.01 --set output.every=0.0005 "
+      "--checkpoint-every 0.005";
+  // dash and bash count ulimit -f in 512 or 1024-byte blocks: the checkpoint (~220 kB) and some of the ~20
+  // frames (~70 kB each) fit either way.
+  const Result r = cgdem(args, "trap '' XFSZ; ulimit -f 1200;");
+  ASSERT_EQ(r.code, 4) << r.err;
+  EXPECT_NE(r.err.find("output write failed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("full.h5"), std::string::npos) << r.err;
+  hid_t f = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(f, 0) << "the result file does not open after the failure";
+  std::int64_t complete = 0;
+  hid_t attr = H5Aopen(f, "frames_complete", H5P_DEFAULT);
+  ASSERT_GE(attr, 0);
+  H5Aread(attr, H5T_NATIVE_INT64, &complete);
+  H5Aclose(attr);
+  EXPECT_GE(complete, 1);
+  EXPECT_LT(complete, 21) << "the limit should have stopped the run early";
+  EXPECT_EQ(frame_count(f), complete);
+  for (std::int64_t k = 0; k < complete; ++k) {
+    char name[64];
+    std::snprintf(name, sizeof name, "/frames/%06lld/position", static_cast<long long>(k));
+    EXPECT_EQ(read_doubles(f, name).size(), 1500u) << name;
+  }
+  H5Fclose(f);
+  EXPECT_NE(r.err.find("keeps " + std::to_string(complete) + " complete frames"), std::string::npos) << r.err;
+  // The checkpoint written at the failure continues the run.
+  ASSERT_TRUE(fs::exists(dir / "full.checkpoint.h5")) << r.err;
+  const Result cont = cgdem("run base.yaml --quiet --threads 1 --out cont.h5 --set time.end=0.01 "
+                            "--restart full.checkpoint.h5");
+  EXPECT_EQ(cont.code, 0) << cont.err;
+}
+
+// Truncated and corrupt checkpoints, CSV and HDF5 particle files: exit 2 with one line naming the file,
+// and the output of an earlier run (same --out) is left exactly as it was.
+TEST_F(CliTest, CorruptInputsGiveExitTwoAndLeaveEarlierOutputIntact) {
+  write("base.yaml", drop_scene);
+  const std::string quick = " --quiet --threads 1 --set time.end=0.001 --set output.every=0.0005";
+  ASSERT_EQ(cgdem("run base.yaml --out good.h5 --checkpoint-every 0.0005" + quick).code, 0);
+  const std::string good_h5 = slurp(dir / "good.h5"), good_xdmf = slurp(dir / "good.xdmf");
+  const std::string checkpoint = slurp(dir / "good.checkpoint.h5");
+  ASSERT_GT(checkpoint.size(), 1000u);
+  auto corrupt = [](std::string bytes, std::size_t from, std::size_t every) {
+    for (std::size_t i = from; i < bytes.size(); i += every)
+      bytes[i] = static_cast<char>(bytes[i] ^ 0x5a);
+    return bytes;
+  };
+  auto put = [&](const std::string& name, const std::string& bytes) {
+    std::ofstream(dir / name, std::ios::binary) << bytes;
+  };
+  put("cp_half.h5", checkpoint.substr(0, checkpoint.size() / 2));
+  put("cp_head.h5", checkpoint.substr(0, 100));
+  put("cp_empty.h5", "");
+  put("cp_flipped.h5", corrupt(checkpoint, 2048, 61));
+  put("cp_super.h5", corrupt(checkpoint, 8, 13).substr(0, 4096) + checkpoint.substr(4096));
+  ASSERT_EQ(
+      cgdem("run base.yaml --out other.h5 --set groups.0.count=50 --checkpoint-every 0.0005" + quick).code,
+      0); // a checkpoint of another scene (50 particles, not 500)
+  put("r_half.h5", good_h5.substr(0, good_h5.size() / 2));
+  put("r_flipped.h5", corrupt(good_h5, 2048, 61));
+  write("truncated.csv", "id,x,y,z,radius\n1,0.005,0.005,0.005,0.0005\n2,0.005,0.0");
+  write("garbage.csv", std::string("\x01\x02\xff,,\n\0\0x,y\n", 12));
+  write("header_only.csv", "id,x,y,z,radius\n");
+  write("nan.csv", "x,y,z,radius\nnan,0.005,0.005,0.0005\n");
+  write("negative.csv", "x,y,z,radius\n0.005,0.005,0.005,-1\n");
+  write("huge_id.csv", "id,x,y,z,radius\n1e300,0.005,0.005,0.005,0.0005\n");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--restart cp_half.h5", "cp_half.h5"},
+      {"--restart cp_head.h5", "cp_head.h5"},
+      {"--restart cp_empty.h5", "cp_empty.h5"},
+      {"--restart cp_flipped.h5", "cp_flipped.h5"},
+      {"--restart cp_super.h5", "cp_super.h5"},
+      {"--restart other.checkpoint.h5", "other.checkpoint.h5"},
+      {"--restart no_such.checkpoint.h5", "no_such.checkpoint.h5"},
+      {"--restart good.h5", "good.h5"}, // a result file, not a checkpoint
+  };
+  std::vector<std::pair<std::string, std::string>> all = cases;
+  for (const char* file : {"r_half.h5", "r_flipped.h5", "truncated.csv", "garbage.csv", "header_only.csv",
+                           "nan.csv", "negative.csv", "huge_id.csv"})
+    all.push_back({std::string("--set 'groups.0={name: g, material: beads, placement: {type: file, file: ") +
+                       file + "}}'",
+                   file});
+  for (const auto& c : all) {
+    const Result r = cgdem("run base.yaml --out good.h5 " + c.first + quick);
+    EXPECT_EQ(r.code, 2) << c.first << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1u) << c.first << ": " << r.err;
+    EXPECT_NE(r.err.find(c.second), std::string::npos) << c.first << ": " << r.err;
+    EXPECT_TRUE(slurp(dir / "good.h5") == good_h5) << c.first << " changed the earlier result";
+    EXPECT_TRUE(slurp(dir / "good.xdmf") == good_xdmf) << c.first << " changed the earlier XDMF";
+  }
 }
