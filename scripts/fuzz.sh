@@ -1,0 +1,72 @@
+#!/usr/bin/env bash
+# Fuzzes the scene parser (with --set overrides), the particle file readers (CSV and HDF5) and the checkpoint
+# reader with libFuzzer, AddressSanitizer and UndefinedBehaviorSanitizer (clang 14 from Debian), outside CI.
+# Builds the targets of tests/fuzz/ into build-fuzz/ (only the sources they need), seeds each corpus from
+# scenes/ and from files cgdem writes, then runs each target for RUNS executions (default 1,000,000).
+# Findings land in build-fuzz/findings/<target>/; logs in build-fuzz/<target>.log.
+#   bash scripts/fuzz.sh [target ...]      targets: scene particles checkpoint (default: all three)
+#   RUNS=200000 bash scripts/fuzz.sh scene
+set -euo pipefail
+repo=$(cd "$(dirname "$0")/.." && pwd)
+out="$repo/build-fuzz"
+runs=${RUNS:-1000000}
+targets=("$@")
+[ ${#targets[@]} -gt 0 ] || targets=(scene particles checkpoint)
+
+need=()
+for p in clang-14 libclang-rt-14-dev; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || need+=("$p")
+done
+if [ ${#need[@]} -gt 0 ]; then
+  sudo_cmd=()
+  [ "$(id -u)" = 0 ] || sudo_cmd=(sudo)
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get -y -q install --no-install-recommends "${need[@]}"
+fi
+bash "$repo/scripts/setup.sh" >/dev/null # Kokkos headers (core/types.hpp), HDF5, yaml-cpp, TBB
+
+mkdir -p "$out/obj"
+kokkos="$repo/third_party/kokkos-install"
+flags=(-std=c++17 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined -fopenmp
+       -I"$repo" -I"$kokkos/include" $(pkg-config --cflags hdf5 2>/dev/null || echo -I/usr/include/hdf5/serial))
+sources=(drivers/scene_parser.cpp drivers/particle_generation.cpp drivers/preflight.cpp core/scaling.cpp
+         core/materials.cpp core/restitution.cpp core/checkpoint.cpp core/result_writer.cpp)
+objects=()
+for s in "${sources[@]}"; do
+  o="$out/obj/$(basename "$s" .cpp).o"
+  if [ ! -f "$o" ] || [ "$repo/$s" -nt "$o" ]; then
+    echo "[fuzz] compiling $s"
+    clang++-14 "${flags[@]}" -c "$repo/$s" -o "$o"
+  fi
+  objects+=("$o")
+done
+libs=(-L"$kokkos/lib" -lkokkoscore -L/usr/lib/x86_64-linux-gnu/hdf5/serial -lhdf5 -lyaml-cpp -ltbb -ldl)
+
+# Seeds: the example scenes (each with one --set line), particle files and a checkpoint cgdem wrote.
+seed_dir="$out/seeds"
+mkdir -p "$seed_dir/scene" "$seed_dir/particles" "$seed_dir/checkpoint"
+for f in "$repo"/scenes/*.yaml; do
+  cp "$f" "$seed_dir/scene/"
+  { cat "$f"; printf '\n#--set\ngroups.0.count=7\n'; } > "$seed_dir/scene/$(basename "$f" .yaml)_set.yaml"
+done
+cp "$repo"/tests/fuzz/seeds/*.csv "$seed_dir/particles/" 2>/dev/null || true
+if [ -x "$repo/build/cgdem" ] && [ ! -f "$seed_dir/checkpoint/small.checkpoint.h5" ]; then
+  tmp=$(mktemp -d)
+  "$repo/build/cgdem" run "$repo/scenes/lattice_drop.yaml" --set groups.0.count=8 --set time.end=0.0005 \
+    --set output.every=0.0005 --checkpoint-every 0.0005 --out "$tmp/small.h5" --quiet >/dev/null 2>&1 || true
+  cp "$tmp/small.checkpoint.h5" "$seed_dir/checkpoint/" 2>/dev/null || true
+  cp "$tmp/small.h5" "$seed_dir/particles/" 2>/dev/null || true
+  rm -rf "$tmp"
+fi
+
+for t in "${targets[@]}"; do
+  echo "[fuzz] linking fuzz_$t"
+  clang++-14 "${flags[@]}" -fsanitize=fuzzer "$repo/tests/fuzz/fuzz_$t.cpp" "${objects[@]}" "${libs[@]}" \
+    -o "$out/fuzz_$t"
+  mkdir -p "$out/corpus/$t" "$out/findings/$t"
+  echo "[fuzz] fuzz_$t: $runs executions (log $out/$t.log)"
+  # Leaks are not findings here: HDF5 and yaml-cpp keep global state.
+  (cd "$out/findings/$t" && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
+     "$out/fuzz_$t" -runs="$runs" -max_len=4096 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+     "$out/corpus/$t" "$seed_dir/$t" > "$out/$t.log" 2>&1) || echo "[fuzz] fuzz_$t stopped on a finding: see $out/$t.log"
+  grep -E '^stat::number_of_executed_units|^Done|ERROR' "$out/$t.log" || true
+done
