@@ -1,4 +1,5 @@
 #include "core/checkpoint.hpp"
+#include "core/crash_probe.hpp"
 #include "core/hdf5_guard.hpp"
 
 #include <hdf5.h>
@@ -210,8 +211,10 @@ void write_checkpoint(const std::string& path, const CheckpointData& data) {
   }
 }
 
-CheckpointData read_checkpoint(const std::string& path) {
-  try {
+namespace {
+
+CheckpointData read_file(const std::string& path) {
+  {
     H5Guard g;
     Hid file(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose, "cannot open file");
     if (H5Aexists(file, "format") <= 0 || read_string_attr(file, "format") != kFormat)
@@ -236,6 +239,18 @@ CheckpointData read_checkpoint(const std::string& path) {
     for (const auto& n : list_names(scalars))
       d.scalars[n] = read_array<double>(scalars, n, H5T_FLOAT, H5T_NATIVE_DOUBLE, true).at(0);
     return d;
+  }
+}
+
+} // namespace
+
+CheckpointData read_checkpoint(const std::string& path) {
+  try {
+    // A damaged file can crash libhdf5 itself (found by fuzzing: tests/fuzz/crashes/): read it in a child
+    // first.
+    if (const std::string why = crash_probe([&] { read_file(path); }); !why.empty())
+      throw std::runtime_error(why);
+    return read_file(path);
   } catch (const std::exception& e) {
     throw std::runtime_error("cgdem: cannot read checkpoint '" + path + "': " + e.what());
   }

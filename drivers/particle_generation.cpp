@@ -1,6 +1,7 @@
 // Initial particles from the scene's groups. See drivers/particle_generation.hpp.
 #include "drivers/particle_generation.hpp"
 #include "drivers/preflight.hpp"
+#include "core/crash_probe.hpp"
 
 #include <hdf5.h>
 
@@ -395,9 +396,14 @@ void load_file(const GroupSpec& g, std::size_t gi, GroupParticles& out) {
   if (!probe)
     group_fail(g, gi, "placement.file", "cannot read particle file '" + g.placement.file + "'",
                "check the path (a relative path is taken from the scene file's directory)");
-  if (is_hdf5(g.placement.file))
+  if (is_hdf5(g.placement.file)) {
+    // A damaged file can crash libhdf5 itself (docs/reliability.md): read it in a child first.
+    GroupParticles scratch;
+    if (const std::string why = crash_probe([&] { read_hdf5(g, gi, scratch); }); !why.empty())
+      group_fail(g, gi, "placement.file", "HDF5 file '" + g.placement.file + "': " + why,
+                 "give a cgdem HDF5 result or a CSV file");
     read_hdf5(g, gi, out);
-  else
+  } else
     read_csv(g, gi, out);
   const std::size_t n = out.radius.size();
   if (n == 0)

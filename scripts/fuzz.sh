@@ -2,14 +2,17 @@
 # Fuzzes the scene parser (with --set overrides), the particle file readers (CSV and HDF5) and the checkpoint
 # reader with libFuzzer, AddressSanitizer and UndefinedBehaviorSanitizer (clang 14 from Debian), outside CI.
 # Builds the targets of tests/fuzz/ into build-fuzz/ (only the sources they need), seeds each corpus from
-# scenes/ and from files cgdem writes, then runs each target for RUNS executions (default 1,000,000).
+# scenes/ and from files cgdem writes, then runs each target for RUNS executions (default 1,000,000) or
+# MAX_TIME seconds, whichever comes first (default: no time limit).
 # Findings land in build-fuzz/findings/<target>/; logs in build-fuzz/<target>.log.
 #   bash scripts/fuzz.sh [target ...]      targets: scene particles checkpoint (default: all three)
 #   RUNS=200000 bash scripts/fuzz.sh scene
+#   MAX_TIME=300 bash scripts/fuzz.sh particles checkpoint
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 out="$repo/build-fuzz"
 runs=${RUNS:-1000000}
+max_time=${MAX_TIME:-0}
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(scene particles checkpoint)
 
@@ -29,7 +32,7 @@ kokkos="$repo/third_party/kokkos-install"
 flags=(-std=c++17 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined -fopenmp
        -I"$repo" -I"$kokkos/include" $(pkg-config --cflags hdf5 2>/dev/null || echo -I/usr/include/hdf5/serial))
 sources=(drivers/scene_parser.cpp drivers/particle_generation.cpp drivers/preflight.cpp core/scaling.cpp
-         core/materials.cpp core/restitution.cpp core/checkpoint.cpp core/result_writer.cpp)
+         core/materials.cpp core/restitution.cpp core/checkpoint.cpp core/result_writer.cpp core/crash_probe.cpp)
 objects=()
 for s in "${sources[@]}"; do
   o="$out/obj/$(basename "$s" .cpp).o"
@@ -63,10 +66,13 @@ for t in "${targets[@]}"; do
   clang++-14 "${flags[@]}" -fsanitize=fuzzer "$repo/tests/fuzz/fuzz_$t.cpp" "${objects[@]}" "${libs[@]}" \
     -o "$out/fuzz_$t"
   mkdir -p "$out/corpus/$t" "$out/findings/$t"
+  # Inputs as long as the largest seed (the HDF5 seeds are tens of kB), at least 4 kB.
+  max_len=$(find "$seed_dir/$t" -type f -printf '%s\n' | sort -n | tail -n 1)
+  max_len=$(( ${max_len:-0} > 4096 ? max_len : 4096 ))
   echo "[fuzz] fuzz_$t: $runs executions (log $out/$t.log)"
   # Leaks are not findings here: HDF5 and yaml-cpp keep global state.
   (cd "$out/findings/$t" && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
-     "$out/fuzz_$t" -runs="$runs" -max_len=4096 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+     "$out/fuzz_$t" -runs="$runs" -max_total_time="$max_time" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
      "$out/corpus/$t" "$seed_dir/$t" > "$out/$t.log" 2>&1) || echo "[fuzz] fuzz_$t stopped on a finding: see $out/$t.log"
   grep -E '^stat::number_of_executed_units|^Done|ERROR' "$out/$t.log" || true
 done

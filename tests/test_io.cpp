@@ -905,3 +905,18 @@ TEST(Checkpoint, ErrorsNameThePath) {
   EXPECT_FALSE(fs::exists(bad_path));
   EXPECT_FALSE(fs::exists(bad_path + ".tmp"));
 }
+
+// Inputs found by fuzzing (scripts/fuzz.sh) that crashed libhdf5 inside read_checkpoint: now an error naming
+// the file, and this process lives on.
+TEST(Checkpoint, FuzzedFilesThatCrashedHdf5GiveAnError) {
+  for (const char* name : {"checkpoint_vlen_heap.h5"}) {
+    const std::string path = std::string(CGDEM_SOURCE_DIR) + "/tests/fuzz/crashes/" + name;
+    ASSERT_TRUE(fs::exists(path)) << path;
+    try {
+      cgdem::read_checkpoint(path);
+      ADD_FAILURE() << "no error for " << path;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  }
+}

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The whole test suite under AddressSanitizer + UndefinedBehaviorSanitizer (GCC, -DCGDEM_SANITIZE=ON) in
+# build-asan/, outside CI (several times slower than the Release suite). Any ASan report fails its test, and a
+# UBSan report fails its test too (halt_on_error); the counts come from the log. Extra arguments go to ctest
+# (e.g. -R CliTest).
+#   bash scripts/sanitize.sh            log in build-asan/sanitize.log
+set -euo pipefail
+repo=$(cd "$(dirname "$0")/.." && pwd)
+out="$repo/build-asan"
+bash "$repo/scripts/setup.sh" >/dev/null
+cmake -S "$repo" -B "$out" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCGDEM_SANITIZE=ON -DCGDEM_PERF=OFF \
+  -DCGDEM_EXCLUDE= >/dev/null
+cmake --build "$out" --parallel "${JOBS:-$(nproc)}"
+# Leak checking stays on for cgdem and the tests; Kokkos' and TBB's thread pools are not leaks it reports.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=0:strict_string_checks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+cd "$out"
+status=0
+ctest --output-on-failure --timeout 3000 "$@" 2>&1 | tee "$out/sanitize.log" || status=$?
+echo "[sanitize] ASan reports: $(grep -c 'ERROR: AddressSanitizer' "$out/sanitize.log" || true)," \
+     "leak reports: $(grep -c 'ERROR: LeakSanitizer' "$out/sanitize.log" || true)," \
+     "UBSan reports: $(grep -c 'runtime error:' "$out/sanitize.log" || true)"
+exit $status
