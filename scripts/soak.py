@@ -28,7 +28,7 @@ a = ap.parse_args()
 
 check = subprocess.run([a.cgdem, "check", a.scene], capture_output=True, text=True, check=True).stdout
 dt = float(re.search(r"time step\s+(\S+) s", check).group(1))
-end = a.steps * dt
+end = a.steps * dt * 1.001  # `check` prints 4 digits of the step: a little more so that no step is missing
 work = tempfile.mkdtemp(prefix="cgdem_soak_")
 cmd = [a.cgdem, "run", a.scene, "--threads", "1", "--set", f"time.end={end!r}", "--set", "output.every=1.0",
        "--checkpoint-every", "5.0", "--out", os.path.join(work, "soak.h5")]
