@@ -7,11 +7,10 @@ namespace cgdem {
 
 using Real = double;
 
-// Storage precision of the per-pair contact history (the precision knob, CMake option
-// CGDEM_FLOAT_FORCES; until 2026-12-02 it also rounded the per-pair force shares, which the force pass no
-// longer stores): every computation stays in double, and positions, velocities and forces stay double (a
-// micron-sized overlap at a millimetre coordinate needs double's 16 digits); only the history, five or so
-// slots per particle, is rounded, which halves its memory traffic.
+// Storage precision of the per-pair contact history (the precision knob, CMake option CGDEM_FLOAT_FORCES):
+// every computation stays in double, and positions, velocities and forces stay double (a micron-sized
+// overlap at a millimetre coordinate needs double's 16 digits); only the history, five or so slots per
+// particle, is rounded, which halves its memory traffic.
 #ifdef CGDEM_FLOAT_FORCES
 using ForceReal = float;
 #else

@@ -19,6 +19,7 @@
 # restitution input from impact/impact.sh, default 0.86212).
 set -euo pipefail
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+SHARED_DATA=$(cd "$HERE/../../../../shared/data" && pwd)   # ../shared beside the repo
 ROOT=$(cd "$HERE/../../.." && pwd)
 CGDEM=${CGDEM:-$ROOT/build/cgdem}
 LIGGGHTS=${LIGGGHTS:-liggghts}
@@ -66,11 +67,11 @@ prepare() {
   local n=$1 csv
   case $n in
     2k) csv=$HERE/work/settled_bed_2k.csv   # the small-N case: the 10k bed's 2000 lowest particles
-        [ -s "$csv" ] || $PY "$HERE/beds.py" bottom /work/shared/data/settled_bed_10k.csv "$csv" 2000 ;;
-    10k) csv=/work/shared/data/settled_bed_10k.csv ;;
-    50k) csv=/work/shared/data/settled_bed_50k.csv ;;
+        [ -s "$csv" ] || $PY "$HERE/beds.py" bottom $SHARED_DATA/settled_bed_10k.csv "$csv" 2000 ;;
+    10k) csv=$SHARED_DATA/settled_bed_10k.csv ;;
+    50k) csv=$SHARED_DATA/settled_bed_50k.csv ;;
     200k) csv=$HERE/work/settled_bed_200k.csv
-          [ -s "$csv" ] || $PY "$HERE/beds.py" tile /work/shared/data/settled_bed_50k.csv "$csv" 2 2 ;;
+          [ -s "$csv" ] || $PY "$HERE/beds.py" tile $SHARED_DATA/settled_bed_50k.csv "$csv" 2 2 ;;
   esac
   [ -s "$HERE/work/bed_$n.data" ] || $PY "$HERE/beds.py" data "$csv" "$HERE/work/bed_$n.data"
 }
