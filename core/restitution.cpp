@@ -14,11 +14,14 @@ double restitution_beta(double restitution) {
 
 namespace {
 
-// The scaled normal force x^(3/2) + a x^(1/4) x' (a = sqrt(3/2) eta), held at >= 0 in the clamped form.
-double scaled_force(double x, double v, double a, HertzContactEnd end) {
+// The scaled normal force x^(3/2) + a x^(1/4) x' (a = sqrt(3/2) eta), and the same held at >= 0 in the
+// clamped form.
+double unclamped_force(double x, double v, double a) {
   const double xp = x > 0 ? x : 0;
-  const double q = std::sqrt(std::sqrt(xp));
-  const double f = xp * std::sqrt(xp) + a * q * v;
+  return xp * std::sqrt(xp) + a * std::sqrt(std::sqrt(xp)) * v;
+}
+double scaled_force(double x, double v, double a, HertzContactEnd end) {
+  const double f = unclamped_force(x, v, a);
   return (end == HertzContactEnd::Clamped && f < 0) ? 0 : f;
 }
 
@@ -42,9 +45,7 @@ double hertz_restitution(double eta, HertzContactEnd end) {
     if (vn < 0) {
       if (end == HertzContactEnd::Clamped) {
         // The surfaces part where the unclamped force first reaches zero.
-        const double f0 = x * std::sqrt(x) + a * std::sqrt(std::sqrt(x)) * v;
-        const double xq = xn > 0 ? xn : 0;
-        const double f1 = xq * std::sqrt(xq) + a * std::sqrt(std::sqrt(xq)) * vn;
+        const double f0 = unclamped_force(x, v, a), f1 = unclamped_force(xn, vn, a);
         if (f1 <= 0) {
           const double t = f0 > 0 ? f0 / (f0 - f1) : 0;
           return -(v + t * (vn - v));

@@ -10,7 +10,6 @@
 // `static Real interaction_range(const PairParameters&, Real R_i, Real R_j)` (how far beyond touching it
 // may still act; the neighbour cut-off follows the longest), and a const device call operator.
 // A component with history_size 0 stores nothing; ContactLaw::history_size is the sum.
-#include <cmath>
 #include <type_traits>
 #include "models/contact_state.hpp"
 #include "models/pair_parameters.hpp"
