@@ -95,8 +95,8 @@ struct ContactLaw {
 
   // Force and torque on i. `history` points at history_size Reals owned by this (i, j) slot; a law
   // that finds the pair inactive leaves its history zeroed so a later contact starts fresh.
-  KOKKOS_INLINE_FUNCTION ContactForce operator()(const PairParameters& p, const PairState& s,
-                                                 Real* history) const {
+  KOKKOS_FORCEINLINE_FUNCTION ContactForce operator()(const PairParameters& p, const PairState& s,
+                                                      Real* history) const {
     NormalResult nr = normal(p, s, history + normal_offset);
     const Real attraction = adhesion(p, s, nr, history + adhesion_offset);
     ContactForce out;

@@ -3,8 +3,9 @@
 // docs/physics.md 3.3:
 //   F_n = 4 E* a^3/(3 R*) - sqrt(16 pi gamma E* a^3) + c_n delta_dot,   delta = a^2/R* - sqrt(4 pi gamma
 //   a/E*)
-// with a solved from delta on the physical branch a >= a_S by safeguarded Newton (models/jkr_relation.hpp),
-// warm-started from the previous step's a.
+// with a solved from delta on the physical branch a >= a_S in closed form (jkr::solve_x_closed: Ferrari's
+// solution of the quartic and two Newton steps, straight-line arithmetic, so that the force pass's loop over
+// pairs vectorizes; as accurate as the bracketed solver jkr::solve_x, tests/test_jkr_closed_form.cpp).
 // Hysteresis: an unbonded pair feels nothing until delta reaches 0 on approach, where it snaps in onto the
 // JKR curve (F = -8/9 F_c at point A); a bonded pair stays bonded across the gap until delta falls below
 // the pair's separation overlap (contact.jkr_separation), then separates and forgets its history:
@@ -21,7 +22,8 @@
 // damping uses), rather than the tangent dF/d(delta), which diverges at S.
 // surface_energy <= 0 gives exactly HertzTsuji.
 //
-// History (2 Reals): [0] bonded flag (0 or 1), [1] contact radius a of the previous step (warm start).
+// Written without early returns (every quantity computed, the inactive ones selected away) for the same
+// reason. History (2 Reals): [0] bonded flag (0 or 1), [1] the contact radius a of the step.
 #include "models/contact_law.hpp"
 #include "models/hertz_tsuji.hpp"
 #include "models/jkr_relation.hpp"
@@ -41,36 +43,39 @@ struct JkrFull {
     return -p.jkr_separation_overlap * jkr::scales(p.surface_energy, p.E_eff, R_eff).u;
   }
 
-  KOKKOS_INLINE_FUNCTION NormalResult operator()(const PairParameters& p, const PairState& s, Real* h) const {
-    if (!(p.surface_energy > 0)) {
-      h[0] = 0;
-      h[1] = 0;
-      return HertzTsuji{}(p, s, h);
-    }
-    NormalResult r;
+  KOKKOS_FORCEINLINE_FUNCTION NormalResult operator()(const PairParameters& p, const PairState& s,
+                                                      Real* h) const {
+    // Both laws are evaluated and one result kept (a pair without surface energy is Hertz-Tsuji): a branch
+    // here would keep the force pass's loop over pairs from vectorizing. With gamma = 0 the JKR arithmetic
+    // runs on meaningless numbers that are then dropped.
+    const bool adhesive = p.surface_energy > 0;
+    const NormalResult hertz = HertzTsuji{}(p, s, h);
     const jkr::Scales sc = jkr::scales(p.surface_energy, p.E_eff, s.radius_eff);
     const Real d = s.overlap / sc.u;
-    const bool bonded = h[0] > 0.5;
     // Unbonded: nothing until the surfaces touch. Bonded: separation below the separation overlap.
-    if ((!bonded && s.overlap < 0) || (bonded && d < p.jkr_separation_overlap)) {
-      h[0] = 0;
-      h[1] = 0;
-      return r;
-    }
-    const Real x = jkr::solve_x(d, bonded ? h[1] / sc.a_c : 0);
+    const Real threshold = h[0] > 0.5 ? p.jkr_separation_overlap : 0; // d >= 0 iff overlap >= 0
+    const bool bonded_now = d >= threshold;
+    const Real x = jkr::solve_x_closed(bonded_now ? d : 0);
     const Real a = x * sc.a_c;
-    h[0] = 1;
-    h[1] = a;
-
     const Real x15 = x * math::sqrt(x);
     const Real elastic = sc.F_c * ((4.0 / 9.0) * x15 * x15 - (4.0 / 3.0) * x15);
     const Real S_n = 2 * p.E_eff * a;
-    r.force = elastic + p.damping * math::sqrt(S_n * s.mass_eff) * s.overlap_rate;
-    r.friction_load = math::fabs(elastic + 2 * sc.F_c);
-    r.k_t = 8 * p.G_eff * a;
-    r.c_t = p.damping * math::sqrt(r.k_t * s.mass_eff);
-    r.stiffness = S_n;
-    r.active = true;
+    const Real k_t = 8 * p.G_eff * a;
+    const Real force = elastic + p.damping * math::sqrt(S_n * s.mass_eff) * s.overlap_rate;
+    const Real friction_load = math::fabs(elastic + 2 * sc.F_c);
+    const Real c_t = p.damping * math::sqrt(k_t * s.mass_eff);
+    // Selections of numbers only (a selection between two truth values does not vectorize).
+    const Real active = adhesive ? (bonded_now ? 1.0 : 0.0) : (hertz.active ? 1.0 : 0.0);
+    const Real on = adhesive && bonded_now ? 1.0 : 0.0;
+    NormalResult r;
+    r.force = adhesive ? on * force : hertz.force;
+    r.friction_load = adhesive ? on * friction_load : hertz.friction_load;
+    r.k_t = adhesive ? on * k_t : hertz.k_t;
+    r.c_t = adhesive ? on * c_t : hertz.c_t;
+    r.stiffness = adhesive ? on * S_n : hertz.stiffness;
+    r.active = active > 0.5;
+    h[0] = on;
+    h[1] = on * a;
     return r;
   }
 };

@@ -27,9 +27,9 @@ struct Scales {
   Real F_c = 0; // 3 pi gamma R*
 };
 
-KOKKOS_INLINE_FUNCTION Scales scales(Real gamma, Real E_eff, Real R_eff) {
+KOKKOS_FORCEINLINE_FUNCTION Scales scales(Real gamma, Real E_eff, Real R_eff) {
   Scales s;
-  s.a_c = math::cbrt(math::pi * gamma * R_eff * R_eff / E_eff);
+  s.a_c = math::cbrt_positive(math::pi * gamma * R_eff * R_eff / E_eff);
   s.u = s.a_c * s.a_c / R_eff;
   s.F_c = 3 * math::pi * gamma * R_eff;
   return s;
@@ -87,6 +87,37 @@ KOKKOS_INLINE_FUNCTION Real solve_x(Real d, Real guess, int* iterations = nullpt
   }
   if (iterations) *iterations = it;
   return x;
+}
+
+// The same root in closed form, straight-line arithmetic (the force kernel's loop over contacts vectorizes
+// with it; the bracketed solver above stays the reference). With y = sqrt(x) the relation is the quartic
+// y^4 - 2 y - d = 0. Ferrari: for m > 0 with 2 m (d + m^2) = 1, (y^2 + m)^2 = 2 m (y + 1/(2m))^2, so the
+// physical root is y = (w + sqrt(4/w - w^2)) / 2, w = sqrt(2m). The resolvent m^3 + d m - 1/2 = 0 has one
+// real root for d > d_S (its discriminant 1/16 + d^3/27 vanishes exactly at d_S): Cardano's m = A - B with
+// A^3 = 1/4 + s, B^3 = s - 1/4, s = sqrt(1/16 + d^3/27), so A B = d/3 (one cube root only), written
+// m = (1/2) / (A^2 + A B + B^2) (A^3 - B^3 = 1/2) so that no difference cancels for large d. Near S the
+// sqrt(4/w - w^2) loses half the digits; two Newton steps on the quartic restore them (a step is taken only
+// if it stays above y_S, where the slope vanishes). d <= d_S gives x_S.
+KOKKOS_FORCEINLINE_FUNCTION Real solve_x_closed(Real d) {
+  const Real disc = 0.0625 + d * d * d * (1.0 / 27.0);
+  const Real s = math::sqrt(disc > 0 ? disc : 0);
+  const Real A = math::cbrt_positive(0.25 + s);
+  const Real B = d / (3 * A); // A B = cbrt(s^2 - 1/16) = cbrt(d^3 / 27): no second cube root
+  const Real m = 0.5 / (A * A + A * B + B * B);
+  const Real w = math::sqrt(2 * m);
+  const Real q = 4 / w - w * w;
+  Real y = 0.5 * (w + math::sqrt(q > 0 ? q : 0));
+  constexpr Real y_S = 0.79370052598409973738; // 2^(-1/3) = sqrt(x_S)
+  for (int k = 0; k < 2; ++k) {
+    const Real y3 = y * y * y;
+    const Real slope = 4 * y3 - 2; // > 0 above y_S, -> 0 at y_S
+    const Real step = (y3 * y - 2 * y - d) / slope;
+    // Next to S the slope vanishes: a step longer than the distance to y_S (round-off in the estimate) is
+    // not taken.
+    y = (slope > 0 && math::fabs(step) < y - y_S) ? y - step : y;
+  }
+  y = y > y_S ? y : y_S;
+  return d > d_S ? y * y : x_S;
 }
 
 // Contact radius a (physical units) for the overlap delta of a pair with scales sc; prev_a <= 0 = cold.

@@ -14,8 +14,8 @@ struct MindlinTangential {
   static constexpr bool history_antisymmetric = true;
   static constexpr const char* name = "mindlin";
 
-  KOKKOS_INLINE_FUNCTION Vec3 operator()(const PairParameters& p, const PairState& s, const NormalResult& nr,
-                                         Real* h) const {
+  KOKKOS_FORCEINLINE_FUNCTION Vec3 operator()(const PairParameters& p, const PairState& s,
+                                              const NormalResult& nr, Real* h) const {
     Vec3 xi{h[0], h[1], h[2]};
     // Rotate the stored displacement into the current tangent plane, keeping its length.
     const Real len2 = norm2(xi);

@@ -103,8 +103,12 @@ struct DirectForceScaling {
                                                  Real* history) const {
     const Real l = pair_factor(s.scale_i, s.scale_j);
     const PairState o = original_state<Method>(s, l);
-    const Real torque_scale =
-        power(l, p.torque_power > 0 ? static_cast<int>(p.torque_power) : Method::torque_power);
+    // The pair table's torque power (2 or 3) or the method's: selected from straight-line powers, since a
+    // loop of data-dependent length would keep the force pass's loop over pairs from vectorizing.
+    const Real l2 = l * l, l3 = l2 * l;
+    const Real torque_scale = p.torque_power == 2   ? l2
+                              : p.torque_power == 3 ? l3
+                                                    : power(l, Method::torque_power);
     if constexpr (Method::adhesion_power == Method::force_power) {
       ContactForce cf = law(p, o, history);
       cf.force *= power(l, Method::force_power);
