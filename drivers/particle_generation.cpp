@@ -103,7 +103,10 @@ public:
     for (int a = 0; a < 3; ++a) {
       double u = x[a] - d_.lo[a];
       if (d_.periodic[a]) u -= len_[a] * std::floor(u / len_[a]);
-      c[a] = static_cast<int>(std::floor(u / size_[a]));
+      // A particle file may put a particle anywhere (check_particles rejects it later, naming it): clamp
+      // before the conversion, which is undefined for a value beyond int (found by fuzzing, 1e60 m).
+      const double cell = std::floor(u / size_[a]);
+      c[a] = cell > -1e9 ? (cell < 1e9 ? static_cast<int>(cell) : 1000000000) : -1000000000;
       if (d_.periodic[a]) c[a] = std::min(std::max(c[a], 0), n_[a] - 1);
     }
     return {c[0], c[1], c[2]};

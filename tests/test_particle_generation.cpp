@@ -281,6 +281,16 @@ TEST(ParticleGeneration, BadParticleFiles) {
   std::string msg = gen_error(scene_with(kBox, "  - {material: glass, placement: {type: file, file: '" +
                                                    (dir / "bad.csv").string() + "'}}\n"));
   EXPECT_NE(msg.find("bad.csv' line 3: y 'oops' is not a number"), std::string::npos) << msg;
+  // A particle 1e60 m away (a fuzzer's input: the placement grid's cell index overflowed int): generated,
+  // then refused by name.
+  {
+    std::ofstream(dir / "far.csv") << "x,y,z,radius\n1e60,0.001,-1e60,0.0005\n0.003,0.003,0.003,0.0005\n";
+    const Scene far = scene_with(kBox, "  - {material: glass, placement: {type: file, file: '" +
+                                           (dir / "far.csv").string() + "'}}\n");
+    const ParticleSet ps = generate_particles(far);
+    ASSERT_EQ(ps.size(), 2u);
+    EXPECT_NE(check_error(far, ps).find("is outside the domain"), std::string::npos) << check_error(far, ps);
+  }
   msg = gen_error(scene_with(kBox, "  - {material: glass, placement: {type: file, file: '" +
                                        (dir / "dup.csv").string() + "'}}\n"));
   EXPECT_NE(msg.find("particle id 1 appears twice"), std::string::npos) << msg;
