@@ -228,9 +228,10 @@ struct ContactForces {
         // The partner two slots ahead: its position, velocities, radius, mass, and the force and torque
         // the reaction is added to, are seven scattered cache lines; without the hint each slot started by
         // waiting for them when the law ran one pair at a time (perf/README.md; with the batches, four
-        // slots ahead measured the same as two). No test for the end of i's slots: the list keeps spare slots beyond the last
-        // (NeighborList::kSpareSlots), a hint never faults whatever index a slot past i's holds, and a
-        // hint for another particle's partner costs less than the branch, mispredicted once per particle.
+        // slots ahead measured the same as two). No test for the end of i's slots: the list keeps spare slots
+        // beyond the last (NeighborList::kSpareSlots), a hint never faults whatever index a slot past i's
+        // holds, and a hint for another particle's partner costs less than the branch, mispredicted once per
+        // particle.
         static_assert(NeighborListT::kSpareSlots >= 2, "the index two slots ahead is read unguarded");
         const int ahead = neighbors(s + 2);
         math::prefetch(row3(p.position, ahead));
@@ -254,6 +255,17 @@ struct ContactForces {
               if (history_row(s)[k] != 0) history_row(s)[k] = 0;
           continue;
         }
+        // Apart, with nothing kept from an earlier contact: no component acts across a gap unless it
+        // bonded at contact and keeps that in its history (models/contact_law.hpp), so the pair is not worth
+        // a lane. Most pairs within a liquid bridge's reach are such. The overlap is computed as the lane
+        // computes it, so the screen agrees with the law to the last bit.
+        if constexpr (H > 0)
+          if ((ri + rj) - math::sqrt(dist2) < 0) {
+            bool kept = false;
+            for (int k = 0; k < H; ++k)
+              kept = kept || history_row(s)[k] != 0;
+            if (!kept) continue;
+          }
         const int mat_j = one_material ? 0 : p.material(j);
         if (batch.n > 0 && (batch.material_i != mat_i || batch.material_j != mat_j)) evaluate(batch);
         if (batch.n == 0) {

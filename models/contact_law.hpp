@@ -10,6 +10,9 @@
 // `static Real interaction_range(const PairParameters&, Real R_i, Real R_j)` (how far beyond touching it
 // may still act; the neighbour cut-off follows the longest), and a const device call operator.
 // A component with history_size 0 stores nothing; ContactLaw::history_size is the sum.
+// Contract: a component exerts nothing on a pair apart (overlap < 0) whose whole history is zero; a force
+// across a gap (a JKR neck, a liquid bridge) exists only after a contact that the component recorded in its
+// history. The force pass relies on it to skip such pairs within reach (kernels/contact_forces.hpp).
 #include <type_traits>
 #include "models/contact_state.hpp"
 #include "models/pair_parameters.hpp"

@@ -25,7 +25,6 @@
 // Written without early returns (every quantity computed, the inactive ones selected away) for the same
 // reason. History (2 Reals): [0] bonded flag (0 or 1), [1] the contact radius a of the step.
 #include "models/contact_law.hpp"
-#include "models/hertz_tsuji.hpp"
 #include "models/jkr_relation.hpp"
 
 namespace cgdem::models {
@@ -45,37 +44,40 @@ struct JkrFull {
 
   KOKKOS_FORCEINLINE_FUNCTION NormalResult operator()(const PairParameters& p, const PairState& s,
                                                       Real* h) const {
-    // Both laws are evaluated and one result kept (a pair without surface energy is Hertz-Tsuji): a branch
-    // here would keep the force pass's loop over pairs from vectorizing. With gamma = 0 the JKR arithmetic
-    // runs on meaningless numbers that are then dropped.
+    // One straight-line evaluation for both cases, the JKR curve and, for a pair without surface energy,
+    // Hertz-Tsuji (models/hertz_tsuji.hpp, repeated here operation for operation, so bit for bit): a branch
+    // would keep the force pass's loop over pairs from vectorizing. The JKR arithmetic of a gamma = 0 pair
+    // runs on meaningless numbers that the selections drop; only numbers are selected (a selection between
+    // two truth values does not vectorize either).
     const bool adhesive = p.surface_energy > 0;
-    const NormalResult hertz = HertzTsuji{}(p, s, h);
     const jkr::Scales sc = jkr::scales(p.surface_energy, p.E_eff, s.radius_eff);
     const Real d = s.overlap / sc.u;
     // Unbonded: nothing until the surfaces touch. Bonded: separation below the separation overlap.
     const Real threshold = h[0] > 0.5 ? p.jkr_separation_overlap : 0; // d >= 0 iff overlap >= 0
     const bool bonded_now = d >= threshold;
     const Real x = jkr::solve_x_closed(bonded_now ? d : 0);
-    const Real a = x * sc.a_c;
     const Real x15 = x * math::sqrt(x);
-    const Real elastic = sc.F_c * ((4.0 / 9.0) * x15 * x15 - (4.0 / 3.0) * x15);
-    const Real S_n = 2 * p.E_eff * a;
+    const Real touching = s.overlap > 0 ? s.overlap : 0;
+    const Real a = adhesive ? x * sc.a_c : math::sqrt(s.radius_eff * touching); // contact radius
+    const Real S_n = 2 * p.E_eff * a;                                           // Hertz: dF/d(delta)
+    const Real elastic =
+        adhesive ? sc.F_c * ((4.0 / 9.0) * x15 * x15 - (4.0 / 3.0) * x15) : (2.0 / 3.0) * S_n * s.overlap;
+    const Real damped = elastic + p.damping * math::sqrt(S_n * s.mass_eff) * s.overlap_rate;
+    // Hertz-Tsuji holds the force at >= 0 and takes it as the Coulomb load; JKR uses Thornton's load.
+    const Real force = adhesive ? damped : (damped < 0 ? 0.0 : damped);
+    const Real friction_load = adhesive ? math::fabs(elastic + 2 * sc.F_c) : force;
     const Real k_t = 8 * p.G_eff * a;
-    const Real force = elastic + p.damping * math::sqrt(S_n * s.mass_eff) * s.overlap_rate;
-    const Real friction_load = math::fabs(elastic + 2 * sc.F_c);
     const Real c_t = p.damping * math::sqrt(k_t * s.mass_eff);
-    // Selections of numbers only (a selection between two truth values does not vectorize).
-    const Real active = adhesive ? (bonded_now ? 1.0 : 0.0) : (hertz.active ? 1.0 : 0.0);
-    const Real on = adhesive && bonded_now ? 1.0 : 0.0;
+    const Real on = adhesive ? (bonded_now ? 1.0 : 0.0) : (s.overlap > 0 ? 1.0 : 0.0);
     NormalResult r;
-    r.force = adhesive ? on * force : hertz.force;
-    r.friction_load = adhesive ? on * friction_load : hertz.friction_load;
-    r.k_t = adhesive ? on * k_t : hertz.k_t;
-    r.c_t = adhesive ? on * c_t : hertz.c_t;
-    r.stiffness = adhesive ? on * S_n : hertz.stiffness;
-    r.active = active > 0.5;
-    h[0] = on;
-    h[1] = on * a;
+    r.force = on > 0 ? force : 0.0;
+    r.friction_load = on > 0 ? friction_load : 0.0;
+    r.k_t = on > 0 ? k_t : 0.0;
+    r.c_t = on > 0 ? c_t : 0.0;
+    r.stiffness = on > 0 ? S_n : 0.0;
+    r.active = on > 0.5;
+    h[0] = adhesive && bonded_now ? 1.0 : 0.0;
+    h[1] = adhesive && bonded_now ? a : 0.0;
     return r;
   }
 };

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <vector>
+#include "models/hertz_tsuji.hpp"
 #include "models/jkr_full.hpp"
 
 using namespace cgdem;
