@@ -1,7 +1,15 @@
 #!/bin/bash
 # Side-by-side timing of cgdem, LIGGGHTS and LAMMPS on the shared settled beds (perf/peers/README.md).
 #
-#   compare.sh [--n 2k|10k|50k|200k|all] [--runs R] [--steps S] [--codes "cgdem liggghts lammps"] [--out DIR]
+#   compare.sh [--n 2k|10k|50k|200k|all] [--law hertz|jkr|dmt|capillary|eepa] [--runs R] [--steps S]
+#              [--codes "cgdem liggghts lammps"] [--out DIR]
+#
+# --law: the contact law of all codes (default hertz, Hertz-Mindlin). jkr: full JKR with surface energy GAMMA
+# (default 0.05 J/m^2), bonds broken at the pull-off force as LAMMPS does (cgdem: jkr_separation pull_off);
+# dmt: Hertz-Mindlin plus DMT adhesion. The floor is not adhesive (in.bed.lammps says why). Both run against
+# LAMMPS (LIGGGHTS 3.8 has neither: its sjkr cohesion is a different law). capillary (Hertz-Mindlin with
+# water bridges, liquid fraction 0.00415) and eepa (linear EEPA, k1 100, k2 300, k_adh 50 N/m, f0 -5e-6 N)
+# run cgdem alone: their peer inputs (LIGGGHTS easo/capillary/viscous, edinburgh/stiffness) are not matched.
 #
 # For each bed size: cgdem with 1 and 2 threads, LIGGGHTS and LAMMPS with mpirun -np 1 and -np 2, run
 # alternately (R rounds of all six, default 3), S steps each (default 2000, dt 1e-5 s). Setup is excluded:
@@ -11,12 +19,13 @@
 # Prints per code and thread/rank count the median and min-max of particle-steps/s, the peak memory per
 # particle (/usr/bin/time max RSS summed over ranks / N, whole process: includes the executable and
 # libraries), the contacts per particle at the end ((particle-particle + floor contacts) / N, cgdem's count
-# in /series/contacts), the ratios cgdem / peer at 1 and 2 threads/ranks and each code's 2-vs-1 speed-up
-# (of the medians, and run by run).
+# in /series/contacts), the kinetic energy at the end (cgdem's /series/kinetic_energy, the peers' thermo ke),
+# the ratios cgdem / peer at 1 and 2 threads/ranks and each code's 2-vs-1 speed-up (of the medians, and run
+# by run).
 # Raw rows and logs go to DIR (default perf/peers/bed/work/compare-<date>/, git-ignored).
 # Environment: CGDEM (default build/cgdem), LIGGGHTS (liggghts), LMP (lmp), MPIRUN (mpirun),
 # MPIRUN_FLAGS (added to mpirun; --allow-run-as-root is added when running as root), LAMMPS_E (the LAMMPS
-# restitution input from impact/impact.sh, default 0.86212).
+# restitution input from impact/impact.sh, default 0.86212), GAMMA (surface energy of --law jkr and dmt).
 set -euo pipefail
 HERE=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 SHARED_DATA=$(cd "$HERE/../../../../shared/data" && pwd)   # ../shared beside the repo
@@ -30,7 +39,9 @@ PY=/usr/bin/python3
 SIZES=10k
 RUNS=3
 STEPS=2000
-CODES="cgdem liggghts lammps"
+CODES=""
+LAW=hertz
+GAMMA=${GAMMA:-0.05}
 OUT=""
 CORES=$(getconf _NPROCESSORS_ONLN)
 while [ $# -gt 0 ]; do
@@ -39,12 +50,32 @@ while [ $# -gt 0 ]; do
     --runs) RUNS=$2; shift 2 ;;
     --steps) STEPS=$2; shift 2 ;;
     --codes) CODES=$2; shift 2 ;;
+    --law) LAW=$2; shift 2 ;;
     --out) OUT=$2; shift 2 ;;
-    -h|--help) sed -n 2,19p "$0"; exit 0 ;;
+    -h|--help) sed -n 2,27p "$0"; exit 0 ;;
     *) echo "compare.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
 [ "$SIZES" = all ] && SIZES="2k 10k 50k 200k"
+# The law as cgdem's --set overrides of bed_*.yaml (the peers take it as -var law).
+case $LAW in
+  hertz) CGDEM_LAW=() ; [ -n "$CODES" ] || CODES="cgdem liggghts lammps" ;;
+  jkr) CGDEM_LAW=(--set contact.normal=jkr --set contact.jkr_separation=pull_off --set contact.wall_adhesion=false
+                  --set materials.beads.surface_energy="$GAMMA") ;;
+  dmt) CGDEM_LAW=(--set contact.adhesion=dmt --set contact.wall_adhesion=false
+                  --set materials.beads.surface_energy="$GAMMA") ;;
+  capillary) CGDEM_LAW=(--set contact.adhesion=capillary --set contact.wall_adhesion=false
+                        --set 'materials.beads.capillary={surface_tension: 0.072, contact_angle: 0, liquid_fraction: 0.00415}') ;;
+  eepa) CGDEM_LAW=(--set contact.normal=eepa --set contact.wall_adhesion=false
+                   --set 'materials.beads.eepa={k1: 100, k2: 300, k_adh: 50, f0: -5.0e-6}') ;;
+  *) echo "compare.sh: --law must be hertz, jkr, dmt, capillary or eepa (got $LAW)" >&2; exit 2 ;;
+esac
+case $LAW in
+  jkr|dmt) [ -n "$CODES" ] || CODES="cgdem lammps" ;;
+  capillary|eepa) [ -n "$CODES" ] || CODES="cgdem" ;;
+esac
+case " $CODES " in *" liggghts "*) [ "$LAW" = hertz ] || { echo "compare.sh: LIGGGHTS runs --law hertz only" >&2; exit 2; } ;; esac
+case " $CODES " in *" lammps "*) case $LAW in hertz|jkr|dmt) ;; *) echo "compare.sh: LAMMPS runs --law hertz, jkr or dmt" >&2; exit 2 ;; esac ;; esac
 for n in $SIZES; do
   case $n in 2k|10k|50k|200k) ;; *) echo "compare.sh: --n must be 2k, 10k, 50k, 200k or all (got $n)" >&2; exit 2 ;; esac
 done
@@ -60,7 +91,7 @@ ROWS=$OUT/runs.tsv
 cp "$CGDEM" "$OUT/cgdem"
 CGDEM_SRC=$CGDEM
 CGDEM=$OUT/cgdem
-printf 'n\tcode\tpar\trun\tparticles\tpss\tmaxrss_kb\tcontacts\n' > "$ROWS"
+printf 'n\tcode\tpar\trun\tparticles\tpss\tmaxrss_kb\tcontacts\tke\n' > "$ROWS"
 
 # particle files (git-ignored work/): data files for the peers, the 200k CSV for all
 prepare() {
@@ -81,21 +112,21 @@ sum_rss() { cat "$@" | awk '/^[0-9]+$/ { s += $1 } END { print s + 0 }'; }
 
 run_cgdem() { # n threads run
   local tag=$OUT/cgdem_$1_t$2_r$3
-  /usr/bin/time -f %M -o "$tag.rss" "$CGDEM" run "$HERE/bed_$1.yaml" --threads "$2" --quiet --out "$tag.h5" \
+  /usr/bin/time -f %M -o "$tag.rss" "$CGDEM" run "$HERE/bed_$1.yaml" --threads "$2" --quiet --out "$tag.h5" "${CGDEM_LAW[@]}" \
     --set time.end="$($PY -c "print($STEPS * 1e-5)")" >"$tag.out" 2>"$tag.log" || { echo "cgdem failed: $tag.log" >&2; return 1; }
-  local pss np contacts
+  local pss np contacts_ke
   np=$(sed -n 's/^done: [0-9]* steps of \([0-9]*\) particles.*/\1/p' "$tag.log")
   pss=$(sed -n 's/^done: .*: \([0-9.e+]*\) particle-steps\/s.*/\1/p' "$tag.log")
-  contacts=$($PY -c "import h5py; print(int(h5py.File('$tag.h5', 'r')['series/contacts'][-1]))")
+  contacts_ke=$($PY -c "import h5py; s = h5py.File('$tag.h5', 'r')['series']; print(f\"{int(s['contacts'][-1])}\t{float(s['kinetic_energy'][-1]):.6g}\")")
   rm -f "$tag.h5" "$tag.xdmf"
-  printf '%s\tcgdem\t%s\t%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$3" "$np" "$pss" "$(sum_rss "$tag.rss")" "$contacts" >> "$ROWS"
+  printf '%s\tcgdem\t%s\t%s\t%s\t%s\t%s\t%s\n' "$1" "$2" "$3" "$np" "$pss" "$(sum_rss "$tag.rss")" "$contacts_ke" >> "$ROWS"
 }
 
 run_peer() { # code n ranks run
   local code=$1 n=$2 np=$3 r=$4 bin input extra=()
   local tag=$OUT/${code}_${n}_np${np}_r${r}
   if [ "$code" = liggghts ]; then bin=$LIGGGHTS; input=$HERE/in.bed.liggghts
-  else bin=$LMP; input=$HERE/in.bed.lammps; extra=(-var e "$LAMMPS_E"); fi
+  else bin=$LMP; input=$HERE/in.bed.lammps; extra=(-var e "$LAMMPS_E" -var law "$LAW" -var gamma "$GAMMA"); fi
   rm -f "$tag.rss".*
   # shellcheck disable=SC2086
   (cd "$OUT" && $MPIRUN $MPI_FLAGS -np "$np" sh -c 'exec /usr/bin/time -f %M -o "$0.${OMPI_COMM_WORLD_RANK:-0}" "$@"' \
@@ -105,19 +136,19 @@ run_peer() { # code n ranks run
   # "Loop time of T on P procs for S steps with N atoms"; the thermo line of the last step: step atoms ke pairs floor
   local row
   row=$(awk -v s="$STEPS" '/^Loop time of/ { t = $4; st = $9; na = $12 }
-                           $1 == s && NF == 5 { c = $4 + $5 }
-                           END { if (t > 0) printf "%d\t%.6g\t%d", na, na * st / t, c }' "$tag.log")
+                           $1 == s && NF == 5 { c = $4 + $5; ke = $3 }
+                           END { if (t > 0) printf "%d\t%.6g\t%d\t%.6g", na, na * st / t, c, ke }' "$tag.log")
   [ -n "$row" ] || { echo "$code: no Loop time in $tag.log" >&2; return 1; }
   rm -f "$tag".dump_*.bin
-  local atoms pss contacts
-  IFS=$'\t' read -r atoms pss contacts <<<"$row"
-  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$n" "$code" "$np" "$r" "$atoms" "$pss" "$(sum_rss "$tag.rss".*)" "$contacts" >> "$ROWS"
+  local atoms pss contacts ke
+  IFS=$'\t' read -r atoms pss contacts ke <<<"$row"
+  printf '%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\t%s\n' "$n" "$code" "$np" "$r" "$atoms" "$pss" "$(sum_rss "$tag.rss".*)" "$contacts" "$ke" >> "$ROWS"
 }
 
 CGDEM_INFO=$("$CGDEM" info 2>&1 || true)
 {
   echo "compare.sh: $(date -u '+%Y-%m-%d %H:%M UTC'), host $(hostname), $(lscpu | sed -n 's/^Model name: *//p'), $CORES cores"
-  echo "  load average at start: $(cut -d' ' -f1-3 /proc/loadavg); sizes: $SIZES; $RUNS runs x $STEPS steps; codes: $CODES"
+  echo "  load average at start: $(cut -d' ' -f1-3 /proc/loadavg); sizes: $SIZES; law: $LAW$(case $LAW in jkr|dmt) echo " (surface energy $GAMMA J/m^2)" ;; esac); $RUNS runs x $STEPS steps; codes: $CODES"
   # The binary is named by its checksum and build time, since CGDEM may point at a copy built from another
   # commit than the working tree's; the tree's commit is printed as the tree's.
   echo "  cgdem: $CGDEM_SRC (sha256 $(sha256sum "$CGDEM_SRC" | cut -c1-12), built $(date -u -r "$CGDEM_SRC" '+%Y-%m-%d %H:%M UTC')), tree at $(cd "$ROOT" && git log -1 --format='%h %cd' --date=short 2>/dev/null) ($(echo "$CGDEM_INFO" | head -1), $(echo "$CGDEM_INFO" | grep -m1 '^instruction set' || echo 'instruction set: generic'))"
@@ -130,7 +161,7 @@ for n in $SIZES; do
     for code in $CODES; do
       for p in 1 2; do
         if [ "$code" = cgdem ]; then run_cgdem "$n" "$p" "$r"; else run_peer "$code" "$n" "$p" "$r"; fi
-        tail -1 "$ROWS" | awk -F'\t' '{ printf "  %-5s %-8s x%s run %s: %.3g particle-steps/s, %.0f MB, %d contacts\n", $1, $2, $3, $4, $6, $7 / 1024, $8 }'
+        tail -1 "$ROWS" | awk -F'\t' '{ printf "  %-5s %-8s x%s run %s: %.3g particle-steps/s, %.0f MB, %d contacts, KE %.4g J\n", $1, $2, $3, $4, $6, $7 / 1024, $8, $9 }'
       done
     done
   done
@@ -145,7 +176,7 @@ for r in rows:
 unit = {"cgdem": "threads", "liggghts": "ranks", "lammps": "ranks"}
 med = {}
 print()
-print(f"{'N':>5} {'code':<9} {'par':>10} {'median p-steps/s':>17} {'min - max':>21} {'B/particle':>11} {'contacts/particle':>18}")
+print(f"{'N':>5} {'code':<9} {'par':>10} {'median p-steps/s':>17} {'min - max':>21} {'B/particle':>11} {'contacts/particle':>18} {'KE at end (J)':>14}")
 for key in sorted(by, key=lambda k: (["2k", "10k", "50k", "200k"].index(k[0]), ["cgdem", "liggghts", "lammps"].index(k[1]), k[2])):
     rs = by[key]
     pss = [float(r["pss"]) for r in rs]
@@ -154,8 +185,10 @@ for key in sorted(by, key=lambda k: (["2k", "10k", "50k", "200k"].index(k[0]), [
     cpp = sorted({int(r["contacts"]) / npart for r in rs})
     med[key] = statistics.median(pss)
     c = f"{cpp[0]:.4f}" if len(cpp) == 1 else f"{cpp[0]:.4f}-{cpp[-1]:.4f}"
+    kes = sorted({float(r["ke"]) for r in rs})
+    ke = f"{kes[0]:.4g}" if len(kes) == 1 else f"{kes[0]:.4g}-{kes[-1]:.4g}"
     print(f"{key[0]:>5} {key[1]:<9} {str(key[2]) + ' ' + unit[key[1]]:>10} {med[key]:>17.4g} "
-          f"{min(pss):>10.4g} - {max(pss):<8.4g} {rss:>11.0f} {c:>18}")
+          f"{min(pss):>10.4g} - {max(pss):<8.4g} {rss:>11.0f} {c:>18} {ke:>14}")
 print()
 for n in ["2k", "10k", "50k", "200k"]:
     for peer in ["liggghts", "lammps"]:
