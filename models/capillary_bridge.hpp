@@ -23,8 +23,10 @@ struct CapillaryBridge {
   KOKKOS_INLINE_FUNCTION static Real liquid_volume(const PairParameters& p, Real V_i, Real V_j) {
     return p.liquid_volume > 0 ? p.liquid_volume : p.liquid_fraction * (V_i + V_j);
   }
+  // V > 0 (math::cbrt_positive: straight-line, as the force pass's loop over pairs needs; the host's
+  // interaction range uses the same function, so the two agree to the bit).
   KOKKOS_INLINE_FUNCTION static Real rupture_distance(const PairParameters& p, Real V) {
-    return (1 + 0.5 * p.contact_angle) * math::cbrt(V);
+    return (1 + 0.5 * p.contact_angle) * math::cbrt_positive(V);
   }
 
   // S_rup for the bridge between spheres of radii R_i and R_j (R_j <= 0 or infinite: a wall, no liquid).
@@ -37,19 +39,21 @@ struct CapillaryBridge {
     return V > 0 ? rupture_distance(p, V) : 0;
   }
 
+  // Straight-line (every quantity computed, numbers selected), so that the force pass's loop over pairs
+  // vectorizes; a pair without a bridge computes meaningless numbers that are dropped.
   KOKKOS_INLINE_FUNCTION Real operator()(const PairParameters& p, const PairState& s, NormalResult&,
                                          Real* h) const {
     const Real V = liquid_volume(p, s.volume_i, s.volume_j);
     const Real gap = -s.overlap;
-    bool alive = h[0] > 0.5 || s.overlap >= 0; // forms on contact
-    if (alive && (gap > rupture_distance(p, V) || !(V > 0) || !(p.surface_tension > 0))) alive = false;
-    h[0] = alive ? 1 : 0;
-    if (!alive) return 0;
+    const bool formed = h[0] > 0.5 || s.overlap >= 0; // forms on contact
+    const bool alive = formed && !(gap > rupture_distance(p, V)) && V > 0 && p.surface_tension > 0;
+    h[0] = alive ? 1.0 : 0.0;
     const Real S = gap > p.min_separation ? gap : p.min_separation;
     const Real full = 4 * math::pi * s.radius_eff * p.surface_tension * math::cos(p.contact_angle);
-    if (!(S > 0)) return full; // S_min = 0 at contact: the q -> infinity limit
     const Real q = V / (math::pi * s.radius_eff * S * S);
-    return full * q / (q + 1 + math::sqrt(1 + q));
+    // S_min = 0 at contact: the q -> infinity limit.
+    const Real bridge = S > 0 ? full * q / (q + 1 + math::sqrt(1 + q)) : full;
+    return alive ? bridge : 0.0;
   }
 };
 
