@@ -316,6 +316,7 @@ TEST(JkrFull, ReducesToHertzWhenGammaZero) {
       EXPECT_EQ(jr.c_t, hr.c_t);
       EXPECT_EQ(jr.stiffness, hr.stiffness);
       EXPECT_EQ(h[0], 0);
+      EXPECT_EQ(h[1], 0);
     }
   }
   EXPECT_EQ(JkrFull::interaction_range(p, 1e-3, 2e-3), 0);

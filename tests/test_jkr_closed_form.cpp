@@ -2,13 +2,13 @@
 // references: the bit-trick cube root against the library's, the closed-form contact radius
 // (jkr::solve_x_closed) against the bracketed Newton solver (jkr::solve_x) and a long-double solution, and
 // the law's force over whole loading-unloading loops against the force of the bracketed solution, down to
-// next to the separation point.
+// next to the separation point. That a gamma = 0 pair is Hertz-Tsuji bit for bit is
+// JkrFull.ReducesToHertzWhenGammaZero (tests/test_cohesive_models.cpp).
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <vector>
-#include "models/hertz_tsuji.hpp"
 #include "models/jkr_full.hpp"
 
 using namespace cgdem;
@@ -110,33 +110,5 @@ TEST(JkrClosedForm, LawForceOverLoadingUnloadingLoopWithinOneInTenToTheTwelve) {
     EXPECT_FALSE(JkrFull{}(p, s, h).active);
     EXPECT_EQ(h[0], 0);
     EXPECT_EQ(h[1], 0);
-  }
-}
-
-// Without surface energy the law is Hertz-Tsuji, bit for bit, in and out of contact.
-TEST(JkrClosedForm, ZeroSurfaceEnergyIsHertzTsujiExactly) {
-  PairParameters p;
-  p.E_eff = 2.7e6;
-  p.G_eff = 1.1e6;
-  p.damping = 0.3;
-  PairState s;
-  s.radius_eff = 0.25e-3;
-  s.mass_eff = 1e-6;
-  for (const double overlap : {-1e-6, 0.0, 1e-9, 2e-6, 3e-5}) {
-    for (const double rate : {-0.2, 0.0, 0.1}) {
-      s.overlap = overlap;
-      s.overlap_rate = rate;
-      Real h[2] = {1, 1e-5};
-      const NormalResult jkr = JkrFull{}(p, s, h);
-      const NormalResult hertz = HertzTsuji{}(p, s, nullptr);
-      EXPECT_EQ(jkr.force, hertz.force);
-      EXPECT_EQ(jkr.friction_load, hertz.friction_load);
-      EXPECT_EQ(jkr.k_t, hertz.k_t);
-      EXPECT_EQ(jkr.c_t, hertz.c_t);
-      EXPECT_EQ(jkr.stiffness, hertz.stiffness);
-      EXPECT_EQ(jkr.active, hertz.active);
-      EXPECT_EQ(h[0], 0);
-      EXPECT_EQ(h[1], 0);
-    }
   }
 }
