@@ -186,7 +186,7 @@ struct ContactForces {
         put_lane(out_force, l, cf.force);
         put_lane(out_torque, l, cf.torque);
         put_lane(out_torque_j, l, cf.torque_j);
-        out_active[l] = cf.active ? 1 : 0;
+        out_active[l] = cf.active;
       }
       for (int l = 0; l < b.n; ++l) {
         const int i = b.i[l], j = b.j[l];

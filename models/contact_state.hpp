@@ -42,10 +42,13 @@ KOKKOS_INLINE_FUNCTION Real lever_arm(Real radius, const PairState& s) {
 }
 
 struct ContactForce {
-  Vec3 force;          // total force on i (j gets exactly -force)
-  Vec3 torque;         // torque on i about its centre, lever arm included
-  Vec3 torque_j;       // torque on j about its centre (a half neighbour list evaluates each pair once)
-  bool active = false; // counts as a contact (touching, or bonded across a gap)
+  Vec3 force;    // total force on i (j gets exactly -force)
+  Vec3 torque;   // torque on i about its centre, lever arm included
+  Vec3 torque_j; // torque on j about its centre (a half neighbour list evaluates each pair once)
+  // Counts as a contact (touching, or bonded across a gap): 0 or 1. A number, not a bool: a law that returns
+  // a ContactForce it received from another (the scaling wrappers) would otherwise keep the force pass's loop
+  // over pairs from vectorizing (GCC does not vectorize the copy of a struct holding a bool).
+  int active = 0;
 };
 
 struct RollingTorque {

@@ -57,7 +57,9 @@ TEST(JkrClosedForm, ContactRadiusAsAccurateAsTheBracketedSolver) {
     std::printf("[ report ] (d - d_S)/|d_S| 1e%+d: x error closed form %.1e, bracketed %.1e\n", decade,
                 worst_closed, worst_bracketed);
     EXPECT_LE(worst_closed, 1.5 * worst_bracketed + 1e-15) << decade;
-    if (decade >= -5) EXPECT_LT(worst_closed, 1e-13) << decade;
+    if (decade >= -5) {
+      EXPECT_LT(worst_closed, 1e-13) << decade;
+    }
   }
   // At or below S the physical branch ends at x_S.
   EXPECT_EQ(jkr::solve_x_closed(jkr::d_S), jkr::x_S);

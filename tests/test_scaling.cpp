@@ -154,6 +154,23 @@ TEST(ScalingLaws, DirectCombinationsAreCompiled) {
     }
 }
 
+// The wrappers' torque factor: the exponent chosen and l^n formed without a selection, bit for bit the
+// products l * l (* l (* l)) for every exponent in use and scale factors from 1 to 100.
+TEST(ScalingLaws, TorquePowerWithoutSelectionIsExact) {
+  EXPECT_EQ(sc::effective_torque_power(0, 2), 2.0);
+  EXPECT_EQ(sc::effective_torque_power(0, 4), 4.0);
+  EXPECT_EQ(sc::effective_torque_power(2, 4), 2.0);
+  EXPECT_EQ(sc::effective_torque_power(3, 2), 3.0);
+  for (double l = 1; l <= 100; l += 0.37) {
+    const double l2 = l * l, l3 = l2 * l, l4 = l3 * l;
+    EXPECT_EQ(sc::power_2_to_4(l, 2), l2) << l;
+    EXPECT_EQ(sc::power_2_to_4(l, 3), l3) << l;
+    EXPECT_EQ(sc::power_2_to_4(l, 4), l4) << l;
+    for (int n = 0; n <= 4; ++n)
+      EXPECT_EQ(sc::power(l, n), n == 0 ? 1 : n == 1 ? l : n == 2 ? l2 : n == 3 ? l3 : l4) << l;
+  }
+}
+
 TEST(ScalingLaws, HostExponentsMirrorDeviceMethods) {
   const auto same = [](ScalingLaw law, auto tag) {
     using M = decltype(tag);

@@ -43,11 +43,24 @@ struct Sakai { // Sakai & Koshizuka 2009: contact l^3, adhesive (van der Waals t
   static constexpr int overlap_power = 0, force_power = 3, adhesion_power = 2, torque_power = 4;
 };
 
+// l^n for the methods' exponents 0..4, multiplied in the order of 1 * l * l ... In straight-line arithmetic:
+// a loop, even of constant length, inside the force pass's loop over pairs keeps that loop from vectorizing.
 KOKKOS_INLINE_FUNCTION Real power(Real l, int n) {
-  Real r = 1;
-  for (int k = 0; k < n; ++k)
-    r *= l;
-  return r;
+  const Real l2 = l * l;
+  return n <= 0 ? 1.0 : n == 1 ? l : n == 2 ? l2 : n == 3 ? l2 * l : l2 * l * l;
+}
+
+// The exponent t of the pair table (2 or 3), or the method's m where t is 0, and l^n for n in {2, 3, 4}.
+// Without a selection: t is the same in every lane of the force pass's loop over pairs, and GCC 12 does not
+// vectorize a loop that selects among lane values on such a condition (it finds no vector type for it).
+// Both are Lagrange forms whose weights are exactly 1 or 0 at these integers: (2 - t)(3 - t)/6 is 1 at t = 0
+// and 0 at 2 and 3; l^n sums l^2, l^3, l^4 weighted 1 for the one of power n and exactly 0 for the others.
+KOKKOS_INLINE_FUNCTION Real effective_torque_power(Real t, int m) {
+  return t + ((2 - t) * (3 - t) / 6) * m;
+}
+KOKKOS_INLINE_FUNCTION Real power_2_to_4(Real l, Real n) {
+  const Real l2 = l * l, l3 = l2 * l, l4 = l3 * l;
+  return ((3 - n) * (4 - n) / 2) * l2 + ((n - 2) * (4 - n)) * l3 + ((n - 2) * (n - 3) / 2) * l4;
 }
 
 // Pair factor from the two particles' factors (scale_j <= 0: a wall).
@@ -99,16 +112,14 @@ struct DirectForceScaling {
     return range * power(l, Method::overlap_power);
   }
 
-  KOKKOS_INLINE_FUNCTION ContactForce operator()(const PairParameters& p, const PairState& s,
-                                                 Real* history) const {
+  // Forced inline: called in the force pass's loop over pairs, which vectorizes only if the whole law is
+  // inlined.
+  KOKKOS_FORCEINLINE_FUNCTION ContactForce operator()(const PairParameters& p, const PairState& s,
+                                                      Real* history) const {
     const Real l = pair_factor(s.scale_i, s.scale_j);
     const PairState o = original_state<Method>(s, l);
-    // The pair table's torque power (2 or 3) or the method's: selected from straight-line powers, since a
-    // loop of data-dependent length would keep the force pass's loop over pairs from vectorizing.
-    const Real l2 = l * l, l3 = l2 * l;
-    const Real torque_scale = p.torque_power == 2   ? l2
-                              : p.torque_power == 3 ? l3
-                                                    : power(l, Method::torque_power);
+    // The pair table's torque power (2 or 3; 0: the method's own).
+    const Real torque_scale = power_2_to_4(l, effective_torque_power(p.torque_power, Method::torque_power));
     if constexpr (Method::adhesion_power == Method::force_power) {
       ContactForce cf = law(p, o, history);
       cf.force *= power(l, Method::force_power);
