@@ -21,8 +21,18 @@ double damping_coefficient(double restitution, const ContactSpec& contact, doubl
   const double beta = restitution_beta(restitution);
   if (contact.normal == "linear" || contact.normal == "eepa") return -2 * beta; // exact for a linear spring
   if (contact.damping == "beta_formula") return -2 * std::sqrt(5.0 / 6.0) * beta;
+  const bool jkr = contact.normal == "jkr" && surface_energy > 0;
+  // Adhesive pairs rebound with e at the impact speed the scene names (core/restitution.hpp).
+  if (contact.restitution_speed_ratio > 0 && (jkr || (contact.adhesion == "dmt" && surface_energy > 0))) {
+    const AdhesiveCollision law = !jkr                                   ? AdhesiveCollision::Dmt
+                                  : contact.jkr_separation == "pull_off" ? AdhesiveCollision::JkrPullOff
+                                  : contact.jkr_separation == "contact_loss"
+                                      ? AdhesiveCollision::JkrContactLoss
+                                      : AdhesiveCollision::JkrDeltaS;
+    return adhesive_damping_for_restitution(restitution, law, contact.restitution_speed_ratio);
+  }
   // Hertz-Tsuji (and DMT on it) holds the normal force at >= 0; full JKR does not.
-  const bool unclamped = contact.normal == "jkr" && surface_energy > 0;
+  const bool unclamped = jkr;
   return hertz_damping_for_restitution(restitution,
                                        unclamped ? HertzContactEnd::Unclamped : HertzContactEnd::Clamped);
 }

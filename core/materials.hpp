@@ -16,7 +16,8 @@ models::PairParameters mix_pair(const MaterialSpec& a, const MaterialSpec& b, bo
                                 const ContactSpec& contact);
 
 // Damping coefficient eta of a pair with restitution e under the scene's normal law and damping rule. A JKR
-// pair without surface energy runs as Hertz-Tsuji (force held >= 0) and gets that law's coefficient.
+// pair without surface energy runs as Hertz-Tsuji (force held >= 0) and gets that law's coefficient. Adhesive
+// JKR and DMT pairs under contact.restitution_speed_ratio get the coefficient solved at that impact speed.
 double damping_coefficient(double restitution, const ContactSpec& contact, double surface_energy = 1);
 
 // The lever arm the scene uses: contact.lever_arm, with auto resolved (radius under chen_elliott,

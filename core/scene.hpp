@@ -53,6 +53,10 @@ struct ContactSpec {
   // rebound of an isolated collision equals the input e for every law) or beta_formula (Tsuji's
   // 2 sqrt(5/6) beta(e) for Hertz and JKR, as LIGGGHTS and EDEM do).
   std::string damping = "restitution"; // restitution | beta_formula
+  // Adhesive pairs (JKR, DMT) under damping: restitution: the impact speed, in sticking velocities
+  // sqrt(2 W_s / m*), at which an isolated collision rebounds with e (core/restitution.hpp). 0: the limit of
+  // impact speeds far above it (the damping of the non-adhesive law).
+  double restitution_speed_ratio = 0;
   // Direct force scaling wrapping the whole law (models/scaling/direct_force_scaling.hpp): none |
   // hu_method1 | hu_method2 | hu_method3 | sakai. Not a YAML key: derived from the groups' coarse_grain.law
   // by effective_contact() (core/scaling.hpp); the compiled name gets "@<method>".

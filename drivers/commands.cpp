@@ -410,10 +410,17 @@ int check_command(const std::vector<std::string>& args) {
     {
       const ContactSpec& c = p.scene.contact;
       const bool spring = c.normal == "linear" || c.normal == "eepa";
+      const bool adhesive = c.normal == "jkr" || c.adhesion == "dmt";
+      char at_speed[160];
+      std::snprintf(at_speed, sizeof at_speed,
+                    "eta solved from the damped %s collision at %g x the sticking velocity (adhesive pairs; "
+                    "non-adhesive ones as Hertz)",
+                    c.normal == "jkr" ? "JKR" : "DMT", c.restitution_speed_ratio);
       std::printf("damping      %s: %s\n", c.damping.c_str(),
-                  spring ? "eta = 2|beta(e)|, exact for the linear spring"
-                  : c.damping == "beta_formula"
-                      ? "eta = 2 sqrt(5/6) |beta(e)| (Tsuji, as LIGGGHTS / EDEM)"
+                  spring                        ? "eta = 2|beta(e)|, exact for the linear spring"
+                  : c.damping == "beta_formula" ? "eta = 2 sqrt(5/6) |beta(e)| (Tsuji, as LIGGGHTS / EDEM)"
+                  : adhesive && c.restitution_speed_ratio > 0
+                      ? at_speed
                       : (c.normal == "jkr" ? "eta = 2 sqrt(5/6) |beta(e)|, exact for the unclamped Hertz-JKR "
                                              "contact far above the sticking velocity"
                                            : "eta solved from the damped Hertz equation (force held >= 0)"));

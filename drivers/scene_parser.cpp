@@ -440,7 +440,7 @@ struct Parser {
   void parse_contact(const Field& f) {
     MapView m(ctx, f,
               {"normal", "adhesion", "tangential", "rolling", "wall_adhesion", "jkr_separation", "lever_arm",
-               "damping"});
+               "damping", "restitution_speed_ratio"});
     ContactSpec& c = scene.contact;
     if (m.has("normal")) c.normal = as_choice(ctx, m.get("normal"), kNormalLaws, "normal law");
     if (m.has("adhesion") && m.get("adhesion").node.IsScalar() &&
@@ -461,6 +461,13 @@ struct Parser {
       c.lever_arm = as_choice(ctx, m.get("lever_arm"), {"auto", "contact_point", "radius"}, "lever arm");
     if (m.has("damping"))
       c.damping = as_choice(ctx, m.get("damping"), {"restitution", "beta_formula"}, "damping rule");
+    opt_num(ctx, m, "restitution_speed_ratio", c.restitution_speed_ratio);
+    if (m.has("restitution_speed_ratio"))
+      check(ctx, c.restitution_speed_ratio > 1 && c.restitution_speed_ratio < 1e6,
+            m.get("restitution_speed_ratio"),
+            "restitution_speed_ratio must be > 1 and < 1e6 (got " + num_str(c.restitution_speed_ratio) +
+                "): below the sticking velocity an adhesive pair does not rebound",
+            "give the impact speed in sticking velocities at which JKR/DMT pairs rebound with e, e.g. 20");
     if ((c.normal == "jkr" || c.normal == "eepa") && c.adhesion == "dmt")
       ctx.fail(m.sub("adhesion"), m.get("adhesion").mark,
                "adhesion '" + c.adhesion + "' cannot be combined with normal law '" + c.normal +

@@ -454,4 +454,12 @@ TEST(SceneParser, TorquePowerDampingAndLeverArm) {
   EXPECT_EQ(d.contact.damping, "beta_formula");
   EXPECT_EQ(parse_scene_text(kBase, "scene.yaml").contact.damping, "restitution");
   EXPECT_EQ(parse_scene_text(kBase, "scene.yaml").contact.lever_arm, "auto");
+  // The impact speed (in sticking velocities) at which adhesive pairs rebound with e: above 1 only.
+  EXPECT_EQ(parse_scene_text(kBase, "scene.yaml").contact.restitution_speed_ratio, 0);
+  const Scene r = parse_scene_text(
+      replaced(kBase, "normal: hertz", "normal: jkr\n  restitution_speed_ratio: 20"), "scene.yaml");
+  EXPECT_EQ(r.contact.restitution_speed_ratio, 20);
+  const std::string t3 = replaced(kBase, "normal: hertz", "normal: jkr\n  restitution_speed_ratio: 0.5");
+  expect_error(t3, line_of(t3, "restitution_speed_ratio: 0.5"), "contact.restitution_speed_ratio",
+               "must be > 1", "sticking velocities");
 }
