@@ -4,7 +4,9 @@
   beds.py tile  IN.csv OUT.csv NX NY   copy a bed NX x NY times in x and y (shift by the box extent)
   beds.py bottom IN.csv OUT.csv N      keep the N lowest particles (a settled floor layer over the whole
                                        periodic cross-section, so it stays periodic and at rest), ids 1..N
-  beds.py data  IN.csv OUT.data        LAMMPS/LIGGGHTS data file (atom_style sphere/granular)
+  beds.py data  IN.csv OUT.data [T]    LAMMPS/LIGGGHTS data file (atom_style sphere/granular); T atom types
+                                       (default 1; all particles are type 1, a peer input may give the
+                                       floor type 2 with parameters of its own, as in.bed.eepa.liggghts)
   beds.py box   IN.csv                 print "xlo xhi ylo yhi zlo zhi" of the bed
   beds.py pair  OUT.data V             two 1 mm spheres, head-on at relative speed V (the impact check)
   beds.py wall  OUT.data V             one 1 mm sphere falling onto the plane z = 0 at speed V (no gravity)
@@ -82,9 +84,9 @@ def bottom(src, dst, n):
             f.write(f"{i + 1},{r['x']!r},{r['y']!r},{r['z']!r},{r['radius']!r},{r['density']!r}\n")
 
 
-def write_data(dst, box, atoms, velocities=None, title="cgdem peer comparison"):
+def write_data(dst, box, atoms, velocities=None, title="cgdem peer comparison", types=1):
     with open(dst, "w") as f:
-        f.write(f"{title}\n\n{len(atoms)} atoms\n1 atom types\n\n")
+        f.write(f"{title}\n\n{len(atoms)} atoms\n{types} atom types\n\n")
         f.write(f"{box[0]!r} {box[1]!r} xlo xhi\n{box[2]!r} {box[3]!r} ylo yhi\n{box[4]!r} {box[5]!r} zlo zhi\n\n")
         f.write("Atoms\n\n")
         for a in atoms:
@@ -103,9 +105,10 @@ def main(argv):
         tile(argv[2], argv[3], int(argv[4]), int(argv[5]))
     elif cmd == "bottom" and len(argv) == 5:
         bottom(argv[2], argv[3], int(argv[4]))
-    elif cmd == "data" and len(argv) == 4:
+    elif cmd == "data" and len(argv) in (4, 5):
         box, rows = read_bed(argv[2])
-        write_data(argv[3], box, rows, title=f"settled bed from {argv[2]}")
+        write_data(argv[3], box, rows, title=f"settled bed from {argv[2]}",
+                   types=int(argv[4]) if len(argv) == 5 else 1)
     elif cmd == "box" and len(argv) == 3:
         box, _ = read_bed(argv[2])
         print(" ".join(repr(v) for v in box))

@@ -9,7 +9,7 @@
 # dmt: Hertz-Mindlin plus DMT adhesion. The floor is not adhesive (in.bed.lammps says why). Both run against
 # LAMMPS (LIGGGHTS 3.8 has neither: its sjkr cohesion is a different law). capillary (Hertz-Mindlin with
 # water bridges, liquid fraction 0.00415) and eepa (linear EEPA, k1 100, k2 300, k_adh 50 N/m, f0 -5e-6 N)
-# run cgdem alone: their peer inputs (LIGGGHTS easo/capillary/viscous, edinburgh/stiffness) are not matched.
+# run against LIGGGHTS (in.bed.capillary.liggghts, in.bed.eepa.liggghts: what is matched and what is not).
 #
 # For each bed size: cgdem with 1 and 2 threads, LIGGGHTS and LAMMPS with mpirun -np 1 and -np 2, run
 # alternately (R rounds of all six, default 3), S steps each (default 2000, dt 1e-5 s). Setup is excluded:
@@ -52,29 +52,22 @@ while [ $# -gt 0 ]; do
     --codes) CODES=$2; shift 2 ;;
     --law) LAW=$2; shift 2 ;;
     --out) OUT=$2; shift 2 ;;
-    -h|--help) sed -n 2,27p "$0"; exit 0 ;;
+    -h|--help) sed -n 2,28p "$0"; exit 0 ;;
     *) echo "compare.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
 [ "$SIZES" = all ] && SIZES="2k 10k 50k 200k"
 # The law as cgdem's --set overrides of bed_*.yaml (the peers take it as -var law).
+# shellcheck source=laws.sh
+. "$HERE/laws.sh"
+cgdem_law_settings "$LAW" "$GAMMA" && case $LAW in hertz|jkr|dmt|capillary|eepa) ;; *) false ;; esac ||
+  { echo "compare.sh: --law must be hertz, jkr, dmt, capillary or eepa (got $LAW)" >&2; exit 2; }
 case $LAW in
-  hertz) CGDEM_LAW=() ; [ -n "$CODES" ] || CODES="cgdem liggghts lammps" ;;
-  jkr) CGDEM_LAW=(--set contact.normal=jkr --set contact.jkr_separation=pull_off --set contact.wall_adhesion=false
-                  --set materials.beads.surface_energy="$GAMMA") ;;
-  dmt) CGDEM_LAW=(--set contact.adhesion=dmt --set contact.wall_adhesion=false
-                  --set materials.beads.surface_energy="$GAMMA") ;;
-  capillary) CGDEM_LAW=(--set contact.adhesion=capillary --set contact.wall_adhesion=false
-                        --set 'materials.beads.capillary={surface_tension: 0.072, contact_angle: 0, liquid_fraction: 0.00415}') ;;
-  eepa) CGDEM_LAW=(--set contact.normal=eepa --set contact.wall_adhesion=false
-                   --set 'materials.beads.eepa={k1: 100, k2: 300, k_adh: 50, f0: -5.0e-6}') ;;
-  *) echo "compare.sh: --law must be hertz, jkr, dmt, capillary or eepa (got $LAW)" >&2; exit 2 ;;
-esac
-case $LAW in
+  hertz) [ -n "$CODES" ] || CODES="cgdem liggghts lammps" ;;
   jkr|dmt) [ -n "$CODES" ] || CODES="cgdem lammps" ;;
-  capillary|eepa) [ -n "$CODES" ] || CODES="cgdem" ;;
+  capillary|eepa) [ -n "$CODES" ] || CODES="cgdem liggghts" ;;
 esac
-case " $CODES " in *" liggghts "*) [ "$LAW" = hertz ] || { echo "compare.sh: LIGGGHTS runs --law hertz only" >&2; exit 2; } ;; esac
+case " $CODES " in *" liggghts "*) case $LAW in hertz|capillary|eepa) ;; *) echo "compare.sh: LIGGGHTS runs --law hertz, capillary or eepa" >&2; exit 2 ;; esac ;; esac
 case " $CODES " in *" lammps "*) case $LAW in hertz|jkr|dmt) ;; *) echo "compare.sh: LAMMPS runs --law hertz, jkr or dmt" >&2; exit 2 ;; esac ;; esac
 for n in $SIZES; do
   case $n in 2k|10k|50k|200k) ;; *) echo "compare.sh: --n must be 2k, 10k, 50k, 200k or all (got $n)" >&2; exit 2 ;; esac
@@ -96,6 +89,7 @@ printf 'n\tcode\tpar\trun\tparticles\tpss\tmaxrss_kb\tcontacts\tke\n' > "$ROWS"
 # particle files (git-ignored work/): data files for the peers, the 200k CSV for all
 prepare() {
   local n=$1 csv
+  mkdir -p "$HERE/work"
   case $n in
     2k) csv=$HERE/work/settled_bed_2k.csv   # the small-N case: the 10k bed's 2000 lowest particles
         [ -s "$csv" ] || $PY "$HERE/beds.py" bottom $SHARED_DATA/settled_bed_10k.csv "$csv" 2000 ;;
@@ -105,6 +99,8 @@ prepare() {
           [ -s "$csv" ] || $PY "$HERE/beds.py" tile $SHARED_DATA/settled_bed_50k.csv "$csv" 2 2 ;;
   esac
   [ -s "$HERE/work/bed_$n.data" ] || $PY "$HERE/beds.py" data "$csv" "$HERE/work/bed_$n.data"
+  # the floor as a type of its own (in.bed.eepa.liggghts)
+  [ -s "$HERE/work/bed_$n.2types.data" ] || $PY "$HERE/beds.py" data "$csv" "$HERE/work/bed_$n.2types.data" 2
 }
 
 # sum of the max RSS files of one run (one per rank) in KB
@@ -123,14 +119,20 @@ run_cgdem() { # n threads run
 }
 
 run_peer() { # code n ranks run
-  local code=$1 n=$2 np=$3 r=$4 bin input extra=()
+  local code=$1 n=$2 np=$3 r=$4 bin input data=$HERE/work/bed_$2.data extra=()
   local tag=$OUT/${code}_${n}_np${np}_r${r}
-  if [ "$code" = liggghts ]; then bin=$LIGGGHTS; input=$HERE/in.bed.liggghts
+  if [ "$code" = liggghts ]; then
+    bin=$LIGGGHTS
+    case $LAW in
+      hertz) input=$HERE/in.bed.liggghts ;;
+      capillary) input=$HERE/in.bed.capillary.liggghts ;;
+      eepa) input=$HERE/in.bed.eepa.liggghts; data=$HERE/work/bed_$n.2types.data ;;
+    esac
   else bin=$LMP; input=$HERE/in.bed.lammps; extra=(-var e "$LAMMPS_E" -var law "$LAW" -var gamma "$GAMMA"); fi
   rm -f "$tag.rss".*
   # shellcheck disable=SC2086
   (cd "$OUT" && $MPIRUN $MPI_FLAGS -np "$np" sh -c 'exec /usr/bin/time -f %M -o "$0.${OMPI_COMM_WORLD_RANK:-0}" "$@"' \
-      "$tag.rss" "$bin" -in "$input" -var data "$HERE/work/bed_$n.data" -var steps "$STEPS" \
+      "$tag.rss" "$bin" -in "$input" -var data "$data" -var steps "$STEPS" \
       -var dumpfile "$tag.dump_*.bin" "${extra[@]}" \
       -echo none -log none >"$tag.log" 2>&1) || { echo "$code failed: $tag.log" >&2; return 1; }
   # "Loop time of T on P procs for S steps with N atoms"; the thermo line of the last step: step atoms ke pairs floor
