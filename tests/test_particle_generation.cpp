@@ -13,10 +13,6 @@
 
 using namespace cgdem;
 
-#ifndef CGDEM_SHARED_DIR
-#define CGDEM_SHARED_DIR "/work/shared"
-#endif
-
 namespace {
 
 Scene scene_with(const std::string& domain, const std::string& groups,

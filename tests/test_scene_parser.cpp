@@ -378,10 +378,6 @@ TEST(SceneParser, RelativeParticleFileIsResolvedAgainstTheSceneDirectory) {
   fs::remove_all(dir);
 }
 
-#ifndef CGDEM_SOURCE_DIR
-#define CGDEM_SOURCE_DIR "/work/main"
-#endif
-
 // Every example scene parses, generates its particles, and passes the particle check.
 TEST(SceneParser, ExampleScenesAreValid) {
   namespace fs = std::filesystem;
