@@ -408,7 +408,9 @@ public:
       ++frames_;
       last_time_ = in.time;
     }
-    out[name() + "_mean"] = frames_ > 0 ? sum_ / frames_ : 0.0;
+    // Not yet defined before the first frame at or after average_from: nan, not 0, so that no plot or
+    // sweep reads a zero angle.
+    out[name() + "_mean"] = frames_ > 0 ? sum_ / frames_ : std::numeric_limits<double>::quiet_NaN();
   }
 
 private:
