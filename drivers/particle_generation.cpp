@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <random>
@@ -400,9 +401,14 @@ void load_file(const GroupSpec& g, std::size_t gi, GroupParticles& out) {
     group_fail(g, gi, "placement.file", "cannot read particle file '" + g.placement.file + "'",
                "check the path (a relative path is taken from the scene file's directory)");
   if (is_hdf5(g.placement.file)) {
-    // A damaged file can crash libhdf5 itself (docs/reliability.md): read it in a child first.
+    // A damaged file can crash libhdf5 itself, or make it loop (docs/reliability.md): read it in a child
+    // first.
     GroupParticles scratch;
-    if (const std::string why = crash_probe([&] { read_hdf5(g, gi, scratch); }); !why.empty())
+    std::error_code ec;
+    const std::uintmax_t bytes = std::filesystem::file_size(g.placement.file, ec);
+    if (const std::string why =
+            crash_probe([&] { read_hdf5(g, gi, scratch); }, probe_time_limit(ec ? 0 : bytes));
+        !why.empty())
       group_fail(g, gi, "placement.file", "HDF5 file '" + g.placement.file + "': " + why,
                  "give a cgdem HDF5 result or a CSV file");
     read_hdf5(g, gi, out);
