@@ -88,7 +88,8 @@ struct SizeSpec {
 struct PlacementSpec {
   std::string kind = "lattice";   // lattice | random_box | random_cylinder | file
   Vec3d lo{0, 0, 0}, hi{0, 0, 0}; // box (lattice, random_box)
-  Vec3d center{0, 0, 0};          // cylinder base centre (axis along z)
+  Vec3d center{0, 0, 0};          // cylinder base centre
+  Vec3d axis{0, 0, 1};            // cylinder axis (unit), from the base centre towards the top
   double cylinder_radius = 0, cylinder_height = 0;
   double spacing = 0; // lattice spacing (default: largest diameter * 1.05)
   std::uint64_t seed = 1;

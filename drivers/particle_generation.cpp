@@ -463,7 +463,7 @@ void place_lattice(const GroupSpec& g, std::size_t gi, const std::vector<double>
   }
 }
 
-// Random sequential addition inside a box or a z-aligned cylinder, avoiding every particle already in `grid`.
+// Random sequential addition inside a box or a cylinder, avoiding every particle already in `grid`.
 void place_random(const GroupSpec& g, std::size_t gi, std::vector<double> r, CellGrid& grid, Placed& placed,
                   GroupParticles& out) {
   const PlacementSpec& p = g.placement;
@@ -484,6 +484,24 @@ void place_random(const GroupSpec& g, std::size_t gi, std::vector<double> r, Cel
                    " in the " + p.kind + " region",
                fix);
   Rng rng(p.seed, Rng::position);
+  // The cylinder's frame: e1, e2 across the axis a. Along +z they are x and y exactly, so that a z-aligned
+  // cylinder places bit for bit as it always has (adding the zero terms changes no bit).
+  const Vec3d a = p.axis;
+  Vec3d e1{1, 0, 0}, e2{0, 1, 0};
+  if (!(a[0] == 0 && a[1] == 0 && a[2] > 0)) {
+    // e1: the unit vector along the coordinate axis least aligned with a, made perpendicular to a.
+    const int k = std::fabs(a[0]) <= std::fabs(a[1]) && std::fabs(a[0]) <= std::fabs(a[2]) ? 0
+                  : std::fabs(a[1]) <= std::fabs(a[2])                                     ? 1
+                                                                                           : 2;
+    Vec3d t{0, 0, 0};
+    t[k] = 1;
+    for (int i = 0; i < 3; ++i)
+      e1[i] = t[i] - a[k] * a[i];
+    const double n1 = std::sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (int i = 0; i < 3; ++i)
+      e1[i] /= n1;
+    e2 = {a[1] * e1[2] - a[2] * e1[1], a[2] * e1[0] - a[0] * e1[2], a[0] * e1[1] - a[1] * e1[0]};
+  }
   const int max_tries = 20000;
   for (std::size_t k = 0; k < r.size(); ++k) {
     const double rk = r[k];
@@ -499,8 +517,9 @@ void place_random(const GroupSpec& g, std::size_t gi, std::vector<double> r, Cel
                      "enlarge the cylinder radius/height");
         const double rho = rho_max * std::sqrt(rng.uniform());
         const double phi = rng.uniform(0, 2 * kPi);
-        x = {p.center[0] + rho * std::cos(phi), p.center[1] + rho * std::sin(phi),
-             p.center[2] + rk + h * rng.uniform()};
+        const double u = rho * std::cos(phi), v = rho * std::sin(phi), along = h * rng.uniform();
+        for (int i = 0; i < 3; ++i)
+          x[i] = p.center[i] + rk * a[i] + along * a[i] + u * e1[i] + v * e2[i];
       } else {
         for (int a = 0; a < 3; ++a) {
           const double room = p.hi[a] - p.lo[a] - 2 * rk;

@@ -575,7 +575,7 @@ struct Parser {
   }
 
   void parse_placement(const Field& f, GroupSpec& g, std::size_t index) {
-    MapView m(ctx, f, {"type", "lo", "hi", "center", "radius", "height", "spacing", "seed", "file"},
+    MapView m(ctx, f, {"type", "lo", "hi", "center", "axis", "radius", "height", "spacing", "seed", "file"},
               "write placement: {type: random_box, lo: [..], hi: [..]}");
     PlacementSpec& p = g.placement;
     p.kind = as_choice(ctx, m.require("type", "give type: " + join(kPlacements, " | ")), kPlacements,
@@ -583,7 +583,7 @@ struct Parser {
     std::vector<std::string> allowed;
     if (p.kind == "lattice") allowed = {"type", "lo", "hi", "spacing", "seed"};
     if (p.kind == "random_box") allowed = {"type", "lo", "hi", "seed"};
-    if (p.kind == "random_cylinder") allowed = {"type", "center", "radius", "height", "seed"};
+    if (p.kind == "random_cylinder") allowed = {"type", "center", "axis", "radius", "height", "seed"};
     if (p.kind == "file") allowed = {"type", "file", "seed"};
     for (const auto& k : m.keys())
       if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
@@ -620,13 +620,25 @@ struct Parser {
       p.cylinder_radius = as_num(ctx, rf);
       check(ctx, p.cylinder_radius > 0, rf, "radius must be > 0 (got " + num_str(p.cylinder_radius) + ")",
             "give the cylinder radius in m");
-      const Field hf = m.require("height", "give the cylinder height in m (along z)");
+      const Field hf = m.require("height", "give the cylinder height in m (along its axis)");
       p.cylinder_height = as_num(ctx, hf);
       check(ctx, p.cylinder_height > 0, hf, "height must be > 0 (got " + num_str(p.cylinder_height) + ")",
             "give the cylinder height in m");
-      const Vec3d lo{p.center[0] - p.cylinder_radius, p.center[1] - p.cylinder_radius, p.center[2]};
-      const Vec3d hi{p.center[0] + p.cylinder_radius, p.center[1] + p.cylinder_radius,
-                     p.center[2] + p.cylinder_height};
+      if (m.has("axis")) {
+        p.axis = as_vec3(ctx, m.get("axis"));
+        const double n = norm(p.axis);
+        check(ctx, n > 0, m.get("axis"), "axis is the zero vector", "give a direction, e.g. [0, 1, 0]");
+        for (double& c : p.axis)
+          c /= n;
+      }
+      // Bounding box: the two end disks, each reaching R sqrt(1 - a_i^2) from its centre along axis i.
+      Vec3d lo{}, hi{};
+      for (int i = 0; i < 3; ++i) {
+        const double top = p.center[i] + p.cylinder_height * p.axis[i];
+        const double reach = p.cylinder_radius * std::sqrt(std::max(0.0, 1 - p.axis[i] * p.axis[i]));
+        lo[i] = std::min(p.center[i], top) - reach;
+        hi[i] = std::max(p.center[i], top) + reach;
+      }
       check_box_in_domain(rf, lo, hi, "the placement cylinder");
     }
     if (p.kind == "file") {

@@ -4,6 +4,7 @@
 #include <hdf5.h>
 
 #include <cmath>
+#include <tuple>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -131,6 +132,47 @@ TEST(ParticleGeneration, RandomCylinderIsDeterministicAndInside) {
     EXPECT_LE(rho + a.radius[i], 0.004 + 1e-15);
     EXPECT_GE(a.position[i][2] - a.radius[i], 0.002 - 1e-15);
     EXPECT_LE(a.position[i][2] + a.radius[i], 0.017 + 1e-15);
+  }
+}
+
+// placement.axis: a cylinder along any direction (a horizontal drum's fill); the default is +z, and an
+// explicit +z axis of any length places exactly the same particles.
+TEST(ParticleGeneration, RandomCylinderAlongAnyAxis) {
+  const auto cylinder = [](const std::string& axis, const std::string& center, double height) {
+    return "  - {material: glass, count: 150, size: {radius: 0.0004},\n"
+           "     placement: {type: random_cylinder, center: " +
+           center + ", radius: 0.004, height: " + std::to_string(height) + axis + "}}\n";
+  };
+  const ParticleSet z = generate_particles(scene_with(kBox, cylinder("", "[0.005, 0.005, 0.002]", 0.015)));
+  const ParticleSet z2 =
+      generate_particles(scene_with(kBox, cylinder(", axis: [0, 0, 2]", "[0.005, 0.005, 0.002]", 0.015)));
+  ASSERT_EQ(z.size(), z2.size());
+  for (size_t i = 0; i < z.size(); ++i)
+    EXPECT_EQ(z.position[i], z2.position[i]);
+  const double c = std::sqrt(0.5);
+  for (const auto& [axis, a, center, base, height] :
+       {std::make_tuple(std::string(", axis: [1, 0, 0]"), Vec3d{1, 0, 0},
+                        std::string("[0.0005, 0.005, 0.01]"), Vec3d{0.0005, 0.005, 0.01}, 0.009),
+        std::make_tuple(std::string(", axis: [0, -1, 1]"), Vec3d{0, -c, c},
+                        std::string("[0.005, 0.0068, 0.005]"), Vec3d{0.005, 0.0068, 0.005}, 0.005)}) {
+    const ParticleSet ps = generate_particles(scene_with(kBox, cylinder(axis, center, height)));
+    ASSERT_EQ(ps.size(), 150u) << axis;
+    expect_no_overlaps(ps);
+    for (size_t i = 0; i < ps.size(); ++i) {
+      const Vec3d d{ps.position[i][0] - base[0], ps.position[i][1] - base[1], ps.position[i][2] - base[2]};
+      const double along = d[0] * a[0] + d[1] * a[1] + d[2] * a[2];
+      const Vec3d radial{d[0] - along * a[0], d[1] - along * a[1], d[2] - along * a[2]};
+      EXPECT_GE(along - ps.radius[i], -1e-15) << axis;
+      EXPECT_LE(along + ps.radius[i], height + 1e-15) << axis;
+      EXPECT_LE(dist(radial, {0, 0, 0}) + ps.radius[i], 0.004 + 1e-15) << axis;
+    }
+  }
+  // A cylinder that leaves the domain is refused at the key, whatever its direction.
+  try {
+    generate_particles(scene_with(kBox, cylinder(", axis: [1, 0, 0]", "[0.005, 0.005, 0.01]", 0.009)));
+    FAIL() << "expected a SceneError";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("placement cylinder"), std::string::npos) << e.what();
   }
 }
 
