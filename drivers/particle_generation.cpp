@@ -371,6 +371,14 @@ void read_hdf5(const GroupSpec& g, std::size_t gi, GroupParticles& out) {
     if (np < 0)
       group_fail(g, gi, "placement.file", "cannot read " + fpath + "/radius of '" + path + "'", fix);
     n = static_cast<hsize_t>(np);
+    // Results are written unfiltered: more radii than the file has bytes for means a damaged header, refused
+    // before the buffers are allocated.
+    hsize_t file_bytes = 0;
+    if (H5Fget_filesize(file.id, &file_bytes) < 0 || n > file_bytes / sizeof(double))
+      group_fail(g, gi, "placement.file",
+                 "'" + path + "' " + fpath + "/radius claims " + std::to_string(n) +
+                     " particles, more than the " + std::to_string(file_bytes) + "-byte file holds",
+                 fix);
   }
   std::vector<double> pos(3 * n), rad(n);
   std::vector<std::int64_t> ids(n);

@@ -32,13 +32,24 @@ kokkos="$repo/third_party/kokkos-install"
 flags=(-std=c++17 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined -fopenmp
        -I"$repo" -I"$kokkos/include" $(pkg-config --cflags hdf5 2>/dev/null || echo -I/usr/include/hdf5/serial))
 sources=(drivers/scene_parser.cpp drivers/particle_generation.cpp drivers/preflight.cpp core/scaling.cpp
-         core/materials.cpp core/restitution.cpp core/checkpoint.cpp core/result_writer.cpp core/crash_probe.cpp)
+         core/materials.cpp core/restitution.cpp core/checkpoint.cpp core/result_writer.cpp
+         tests/fuzz/in_process_probe.cpp)
 objects=()
 for s in "${sources[@]}"; do
   o="$out/obj/$(basename "$s" .cpp).o"
-  if [ ! -f "$o" ] || [ "$repo/$s" -nt "$o" ]; then
+  # Recompiled when the source or any header it includes (listed in the .d file) is newer: an object built
+  # against an older layout of the scene structs would make every input crash.
+  stale=0
+  if [ ! -f "$o" ] || [ ! -f "$o.d" ]; then
+    stale=1
+  else
+    for dep in $(sed -e 's/^[^:]*://' -e 's/\\$//' "$o.d"); do
+      if [ ! -e "$dep" ] || [ "$dep" -nt "$o" ]; then stale=1; break; fi
+    done
+  fi
+  if [ "$stale" = 1 ]; then
     echo "[fuzz] compiling $s"
-    clang++-14 "${flags[@]}" -c "$repo/$s" -o "$o"
+    clang++-14 "${flags[@]}" -MMD -MF "$o.d" -c "$repo/$s" -o "$o"
   fi
   objects+=("$o")
 done
@@ -70,9 +81,14 @@ for t in "${targets[@]}"; do
   max_len=$(find "$seed_dir/$t" -type f -printf '%s\n' | sort -n | tail -n 1)
   max_len=$(( ${max_len:-0} > 4096 ? max_len : 4096 ))
   echo "[fuzz] fuzz_$t: $runs executions (log $out/$t.log)"
-  # Leaks are not findings here: HDF5 and yaml-cpp keep global state.
+  # Leaks are not findings here: HDF5 and yaml-cpp keep global state. Fork mode: HDF5 inputs are read in
+  # this process (tests/fuzz/in_process_probe.cpp), so a crash or hang inside libhdf5 ends one job, is
+  # saved as crash-*/timeout-*/oom-* in findings/, and the next job goes on; cgdem's own findings land there too.
   (cd "$out/findings/$t" && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
-     "$out/fuzz_$t" -runs="$runs" -max_total_time="$max_time" -max_len="$max_len" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-     "$out/corpus/$t" "$seed_dir/$t" > "$out/$t.log" 2>&1) || echo "[fuzz] fuzz_$t stopped on a finding: see $out/$t.log"
-  grep -E '^stat::number_of_executed_units|^Done|ERROR' "$out/$t.log" || true
+     "$out/fuzz_$t" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
+     -runs="$runs" -max_total_time="$max_time" -max_len="$max_len" -timeout=5 -rss_limit_mb=2048 \
+     "$out/corpus/$t" "$seed_dir/$t" > "$out/$t.log" 2>&1) || echo "[fuzz] fuzz_$t exited non-zero: see $out/$t.log"
+  # The last progress line has the executions, and how many crashes, timeouts and OOMs the jobs ended on.
+  grep -E '^#[0-9]+:' "$out/$t.log" | tail -n 1 || true
+  echo "[fuzz] findings: $(ls "$out/findings/$t" | wc -l) files in $out/findings/$t"
 done

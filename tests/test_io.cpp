@@ -908,6 +908,21 @@ TEST(Checkpoint, ErrorsNameThePath) {
 
 // Inputs found by fuzzing (scripts/fuzz.sh) that crashed libhdf5 inside read_checkpoint: now an error naming
 // the file, and this process lives on.
+TEST(Checkpoint, DatasetLargerThanItsFileIsRefusedBeforeAllocation) {
+  // A fuzzed checkpoint whose /reals dataset claims 25 GB in a 20 kB file: refused by name, nothing
+  // allocated.
+  const std::string path = std::string(CGDEM_SOURCE_DIR) + "/tests/fuzz/crashes/checkpoint_huge_dataset.h5";
+  ASSERT_TRUE(fs::exists(path)) << path;
+  try {
+    cgdem::read_checkpoint(path);
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const std::runtime_error& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("checkpoint_huge_dataset.h5"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("values, more than the 20120-byte file holds"), std::string::npos) << msg;
+  }
+}
+
 TEST(Checkpoint, FuzzedFilesThatCrashedHdf5GiveAnError) {
   // vlen_heap crashed libhdf5 (SEGV); hdf5_loop made it spin forever, now stopped at the probe's time limit.
   for (const char* name : {"checkpoint_vlen_heap.h5", "checkpoint_hdf5_loop.h5"}) {

@@ -298,6 +298,35 @@ TEST(ParticleGeneration, ReadsTheLastFrameOfAnHdf5File) {
   std::filesystem::remove(path);
 }
 
+TEST(ParticleGeneration, Hdf5RadiusLargerThanItsFileIsRefusedBeforeAllocation) {
+  // A chunked dataset with no chunk written is a valid HDF5 file of a few kB that claims any extent: here
+  // 1e11 radii (800 GB). The reader must refuse it by name instead of allocating the claim.
+  const std::string path = (std::filesystem::temp_directory_path() / "cgdem_gen_huge.h5").string();
+  {
+    const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t frames = H5Gcreate2(f, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hid_t g = H5Gcreate2(frames, "000000", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    const hsize_t dims[1] = {100000000000ull}, chunk[1] = {1024};
+    const hid_t sp = H5Screate_simple(1, dims, nullptr);
+    const hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(dcpl, 1, chunk);
+    const hid_t ds = H5Dcreate2(g, "radius", H5T_IEEE_F64LE, sp, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    H5Dclose(ds), H5Pclose(dcpl), H5Sclose(sp), H5Gclose(g), H5Gclose(frames), H5Fclose(f);
+  }
+  const Scene s = scene_with(kBox, "  - {material: glass, placement: {type: file, file: '" + path + "'}}\n");
+  try {
+    generate_particles(s);
+    ADD_FAILURE() << "no error";
+  } catch (const SceneError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("/frames/000000/radius claims 100000000000 particles, more than the "),
+              std::string::npos)
+        << msg;
+    EXPECT_NE(msg.find("placement.file"), std::string::npos) << msg;
+  }
+  std::filesystem::remove(path);
+}
+
 TEST(ParticleGeneration, BadParticleFiles) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / "cgdem_gen_files";
