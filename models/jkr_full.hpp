@@ -3,12 +3,13 @@
 // docs/physics.md 3.3:
 //   F_n = 4 E* a^3/(3 R*) - sqrt(16 pi gamma E* a^3) + c_n delta_dot,   delta = a^2/R* - sqrt(4 pi gamma
 //   a/E*)
-// with a solved from delta on the physical branch a >= a_S in closed form (jkr::solve_x_closed: Ferrari's
-// solution of the quartic and two Newton steps, straight-line arithmetic, so that the force pass's loop over
-// pairs vectorizes; as accurate as the bracketed solver jkr::solve_x, tests/test_jkr_closed_form.cpp).
-// Hysteresis: an unbonded pair feels nothing until delta reaches 0 on approach, where it snaps in onto the
-// JKR curve (F = -8/9 F_c at point A); a bonded pair stays bonded across the gap until delta falls below
-// the pair's separation overlap (contact.jkr_separation), then separates and forgets its history:
+// with a solved from delta on the physical branch a >= a_S in closed form, in physical units
+// (jkr::solve_quartic_closed: Ferrari's solution of the quartic in sqrt(a) and two Newton steps,
+// straight-line arithmetic, so that the force pass's loop over pairs vectorizes; as accurate as the bracketed
+// solver jkr::solve_x, tests/test_jkr_closed_form.cpp and tests/test_cohesive_models.cpp). Hysteresis: an
+// unbonded pair feels nothing until delta reaches 0 on approach, where it snaps in onto the JKR curve (F =
+// -8/9 F_c at point A); a bonded pair stays bonded across the gap until delta falls below the pair's
+// separation overlap (contact.jkr_separation), then separates and forgets its history:
 //   delta_s       delta_S = -1.1906 u (point S, F = -5/9 F_c): JKR theory, the default;
 //   pull_off      delta_C = -0.5724 u (point C, F = -F_c): LAMMPS' jkr model;
 //   contact_loss  delta = 0: Hu's JKR (Hu section 2.3.2, eqs 5, 10, 11, 16, 23), one JKR contact radius in
@@ -50,25 +51,37 @@ struct JkrFull {
     // runs on meaningless numbers that the selections drop; only numbers are selected (a selection between
     // two truth values does not vectorize either).
     const bool adhesive = p.surface_energy > 0;
-    const jkr::Scales sc = jkr::scales(p.surface_energy, p.E_eff, s.radius_eff);
-    const Real d = s.overlap / sc.u;
-    // Unbonded: nothing until the surfaces touch. Bonded: separation below the separation overlap.
-    const Real threshold = h[0] > 0.5 ? p.jkr_separation_overlap : 0; // d >= 0 iff overlap >= 0
-    const bool bonded_now = d >= threshold;
-    const Real x = jkr::solve_x_closed(bonded_now ? d : 0);
-    const Real x15 = x * math::sqrt(x);
-    const Real touching = s.overlap > 0 ? s.overlap : 0;
-    const Real a = adhesive ? x * sc.a_c : math::sqrt(s.radius_eff * touching); // contact radius
-    const Real S_n = 2 * p.E_eff * a;                                           // Hertz: dF/d(delta)
+    const Real R = s.radius_eff;
+    const Real delta = s.overlap;
+    // In physical units, without the pair's natural scales (their cube root is a third of the pair's cost):
+    // z = sqrt(a) solves z^4 - R* K z - R* delta = 0 with K = sqrt(4 pi gamma / E*)
+    // (jkr::solve_quartic_closed).
+    const Real K = math::sqrt(4 * math::pi * p.surface_energy / p.E_eff);
+    // Unbonded: nothing until the surfaces touch. Bonded: separation below the separation overlap t u, tested
+    // as delta^3 >= t^3 u^3 with u^3 = pi^2 gamma^2 R* / E*^2 (the cube keeps the sign and needs no root).
+    const Real t = p.jkr_separation_overlap;
+    const Real u3_per_R = math::pi * math::pi * p.surface_energy * p.surface_energy / (p.E_eff * p.E_eff);
+    const bool was_bonded = h[0] > 0.5;
+    const Real lhs = was_bonded ? delta * delta * delta : delta;
+    const Real rhs = was_bonded ? (t * t * t) * u3_per_R * R : 0.0;
+    const bool bonded_now = lhs >= rhs;
+    const Real delta_jkr = bonded_now ? delta : 0; // an unbonded lane solves a harmless delta = 0
+    const Real z = jkr::solve_quartic_closed(R * K, R * delta_jkr);
+    const Real touching = delta > 0 ? delta : 0;
+    const Real a = adhesive ? z * z : math::sqrt(R * touching); // contact radius
+    const Real S_n = 2 * p.E_eff * a;                           // Hertz: dF/d(delta)
+    // JKR: 4 E* a^3/(3 R*) - sqrt(16 pi gamma E* a^3) with a^2/R* = delta + K z and sqrt(16 pi gamma E*) = 2
+    // E* K: (2/3) E* a (2 delta - K z), no division. Hertz: (2/3) S_n delta.
     const Real elastic =
-        adhesive ? sc.F_c * ((4.0 / 9.0) * x15 * x15 - (4.0 / 3.0) * x15) : (2.0 / 3.0) * S_n * s.overlap;
+        adhesive ? (2.0 / 3.0) * p.E_eff * a * (2 * delta_jkr - K * z) : (2.0 / 3.0) * S_n * delta;
     const Real damped = elastic + p.damping * math::sqrt(S_n * s.mass_eff) * s.overlap_rate;
     // Hertz-Tsuji holds the force at >= 0 and takes it as the Coulomb load; JKR uses Thornton's load.
     const Real force = adhesive ? damped : (damped < 0 ? 0.0 : damped);
-    const Real friction_load = adhesive ? math::fabs(elastic + 2 * sc.F_c) : force;
+    const Real F_c = 3 * math::pi * p.surface_energy * R; // pull-off force
+    const Real friction_load = adhesive ? math::fabs(elastic + 2 * F_c) : force;
     const Real k_t = 8 * p.G_eff * a;
     const Real c_t = p.damping * math::sqrt(k_t * s.mass_eff);
-    const Real on = adhesive ? (bonded_now ? 1.0 : 0.0) : (s.overlap > 0 ? 1.0 : 0.0);
+    const Real on = adhesive ? (bonded_now ? 1.0 : 0.0) : (delta > 0 ? 1.0 : 0.0);
     NormalResult r;
     r.force = on > 0 ? force : 0.0;
     r.friction_load = on > 0 ? friction_load : 0.0;

@@ -89,33 +89,46 @@ KOKKOS_INLINE_FUNCTION Real solve_x(Real d, Real guess, int* iterations = nullpt
   return x;
 }
 
-// The same root in closed form, straight-line arithmetic (the force kernel's loop over contacts vectorizes
-// with it; the bracketed solver above stays the reference). With y = sqrt(x) the relation is the quartic
-// y^4 - 2 y - d = 0. Ferrari: for m > 0 with 2 m (d + m^2) = 1, (y^2 + m)^2 = 2 m (y + 1/(2m))^2, so the
-// physical root is y = (w + sqrt(4/w - w^2)) / 2, w = sqrt(2m). The resolvent m^3 + d m - 1/2 = 0 has one
-// real root for d > d_S (its discriminant 1/16 + d^3/27 vanishes exactly at d_S): Cardano's m = A - B with
-// A^3 = 1/4 + s, B^3 = s - 1/4, s = sqrt(1/16 + d^3/27), so A B = d/3 (one cube root only), written
-// m = (1/2) / (A^2 + A B + B^2) (A^3 - B^3 = 1/2) so that no difference cancels for large d. Near S the
-// sqrt(4/w - w^2) loses half the digits; two Newton steps on the quartic restore them (a step is taken only
-// if it stays above y_S, where the slope vanishes). d <= d_S gives x_S.
-KOKKOS_FORCEINLINE_FUNCTION Real solve_x_closed(Real d) {
-  const Real disc = 0.0625 + d * d * d * (1.0 / 27.0);
+// The physical root z of the quartic z^4 - P z - Q = 0 (P > 0) in closed form, straight-line arithmetic (the
+// force kernel's loop over contacts vectorizes with it; the bracketed solver above stays the reference).
+// The JKR relation is this quartic twice over: in the natural scales y = sqrt(x) solves y^4 - 2 y - d = 0
+// (P = 2, Q = d: solve_x_closed below), and in physical units z = sqrt(a) solves z^4 - R* K z - R* delta = 0,
+// K = sqrt(4 pi gamma / E*) (delta R* = a^2 - K R* sqrt(a)), which JkrFull solves without the pair's natural
+// scales and so without their cube root. Ferrari: for m > 0 with 8 m (Q + m^2) = P^2,
+// (z^2 + m)^2 = 2 m (z + P/(4m))^2, so the physical root is z = (w + sqrt(2P/w - w^2)) / 2, w = sqrt(2m).
+// The resolvent m^3 + Q m - P^2/8 = 0 has one real root while its discriminant P^4/256 + Q^3/27 is positive
+// (it vanishes exactly at the separation point S, where the two real roots of the quartic meet):
+// Cardano's m = A - B with A^3 = P^2/16 + s, B^3 = s - P^2/16, s = sqrt(P^4/256 + Q^3/27), so A B = Q/3 (one
+// cube root only), written m = (P^2/8) / (A^2 + A B + B^2) (A^3 - B^3 = P^2/8) so that no difference cancels
+// for large Q. Near S the sqrt(2P/w - w^2) loses half the digits; two Newton steps on the quartic restore
+// them. The slope 4 z^3 - P vanishes at S (z_S = (P/4)^(1/3)): a step is taken only if z - |step| stays above
+// z_S, tested as 4 (z - |step|)^3 > P (no cube root), so that round-off in the estimate next to S cannot
+// throw it off the branch. Beyond S (negative discriminant) the result is a number near z_S, not a root.
+KOKKOS_FORCEINLINE_FUNCTION Real solve_quartic_closed(Real P, Real Q) {
+  const Real P2 = P * P;
+  const Real disc = P2 * P2 * (1.0 / 256.0) + Q * Q * Q * (1.0 / 27.0);
   const Real s = math::sqrt(disc > 0 ? disc : 0);
-  const Real A = math::cbrt_positive(0.25 + s);
-  const Real B = d / (3 * A); // A B = cbrt(s^2 - 1/16) = cbrt(d^3 / 27): no second cube root
-  const Real m = 0.5 / (A * A + A * B + B * B);
+  const Real A = math::cbrt_positive(P2 * 0.0625 + s);
+  const Real B = Q / (3 * A); // A B = cbrt(s^2 - P^4/256) = cbrt(Q^3 / 27): no second cube root
+  const Real m = (0.125 * P2) / (A * A + A * B + B * B);
   const Real w = math::sqrt(2 * m);
-  const Real q = 4 / w - w * w;
-  Real y = 0.5 * (w + math::sqrt(q > 0 ? q : 0));
-  constexpr Real y_S = 0.79370052598409973738; // 2^(-1/3) = sqrt(x_S)
+  const Real q = 2 * P / w - w * w;
+  Real z = 0.5 * (w + math::sqrt(q > 0 ? q : 0));
   for (int k = 0; k < 2; ++k) {
-    const Real y3 = y * y * y;
-    const Real slope = 4 * y3 - 2; // > 0 above y_S, -> 0 at y_S
-    const Real step = (y3 * y - 2 * y - d) / slope;
-    // Next to S the slope vanishes: a step longer than the distance to y_S (round-off in the estimate) is
-    // not taken.
-    y = (slope > 0 && math::fabs(step) < y - y_S) ? y - step : y;
+    const Real z3 = z * z * z;
+    const Real slope = 4 * z3 - P; // > 0 above z_S, -> 0 at z_S
+    const Real step = (z3 * z - P * z - Q) / slope;
+    const Real low = z - math::fabs(step);
+    z = (slope > 0 && low > 0 && 4 * (low * low * low) > P) ? z - step : z;
   }
+  return z;
+}
+
+// The root x >= x_S of x^2 - 2 sqrt(x) = d (natural scales) in closed form: y = sqrt(x) from the quartic
+// y^4 - 2 y - d = 0, kept at or above y_S = 2^(-1/3). d <= d_S gives x_S.
+KOKKOS_FORCEINLINE_FUNCTION Real solve_x_closed(Real d) {
+  constexpr Real y_S = 0.79370052598409973738; // 2^(-1/3) = sqrt(x_S)
+  Real y = solve_quartic_closed(2, d);
   y = y > y_S ? y : y_S;
   return d > d_S ? y * y : x_S;
 }
