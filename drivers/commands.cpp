@@ -385,25 +385,48 @@ int run_command(const std::vector<std::string>& args) {
   return 0;
 }
 
+namespace {
+
+// The analyses valid and the physics compiled; returns the physics' name ("@<method>" under direct scaling).
+std::string require_analyses_and_physics(const PreparedRun& p) {
+  make_analyses(p.scene); // validates the analyses (types, parameters, walls)
+  const std::string physics = physics_name(p.config.contact);
+  for (const auto& c : compiled_physics())
+    if (c == physics) return physics;
+  std::string list;
+  for (const auto& c : compiled_physics())
+    list += " " + c;
+  throw SceneError(scene_error_message(p.scene.source_file, "contact",
+                                       "the combination '" + physics + "' is not compiled",
+                                       "choose one of:" + list));
+}
+
+} // namespace
+
+RunCheck check_run(const std::string& scene, const std::vector<std::string>& overrides) {
+  RunOptions o;
+  o.scene = scene;
+  o.overrides = overrides;
+  const PreparedRun p = prepare(o);
+  require_analyses_and_physics(p);
+  make_engine(p.config, default_backend()); // grid and neighbour-list checks (periodic axes >= 3 cells)
+  RunCheck c;
+  c.particles = static_cast<long>(p.particles.size());
+  for (std::size_t i = 0; i < p.particles.size(); ++i) {
+    const double r = p.particles.radius[i];
+    c.mass += p.particles.density[i] * (4.0 / 3.0) * M_PI * r * r * r;
+  }
+  c.warnings = resolution_warnings(p.scene);
+  return c;
+}
+
 int check_command(const std::vector<std::string>& args) {
   RunOptions o;
   if (const int code = read_options(args, "check", check_help(), false, o); code >= 0) return code;
   KokkosSession kokkos(1);
   try {
     const PreparedRun p = prepare(o);
-    make_analyses(p.scene); // validates the analyses (types, parameters, walls)
-    const std::string physics = physics_name(p.config.contact); // "@<method>" under direct scaling
-    bool compiled = false;
-    for (const auto& c : compiled_physics())
-      compiled = compiled || c == physics;
-    if (!compiled) {
-      std::string list;
-      for (const auto& c : compiled_physics())
-        list += " " + c;
-      throw SceneError(scene_error_message(p.scene.source_file, "contact",
-                                           "the combination '" + physics + "' is not compiled",
-                                           "choose one of:" + list));
-    }
+    const std::string physics = require_analyses_and_physics(p);
     std::printf("scene        %s\n", o.scene.c_str());
     std::printf("physics      %s (%s)\n", physics.c_str(),
                 p.scene.contact.wall_adhesion ? "same law on walls" : "walls without adhesion");

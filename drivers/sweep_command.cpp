@@ -27,6 +27,8 @@
 #include "core/result_writer.hpp"
 #include "drivers/analyses.hpp"
 #include "drivers/cli.hpp"
+#include "drivers/commands.hpp"
+#include "drivers/kokkos_session.hpp"
 #include "drivers/scene_parser.hpp"
 
 extern char** environ;
@@ -161,6 +163,8 @@ struct RunPlan {
   std::string run, law;
   double k = 1;
   std::vector<std::string> sets; // the sweep's own --set overrides
+  long particles = 0;            // from the check before the sweep starts
+  double mass = 0;               // kg
 };
 
 std::string self_exe() {
@@ -276,6 +280,7 @@ struct Sweep {
     r.threads = threads;
     r.wall_time = wall;
     r.cpu_time = cpu;
+    r.mass = plan.mass;
     if (!WIFEXITED(status)) {
       std::lock_guard<std::mutex> lock(print);
       std::fprintf(stderr, "sweep: run %s was killed (signal %d); it will run again next time\n",
@@ -335,6 +340,8 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
                "k",
                "status",
                "particles",
+               "mass_kg",
+               "mass_ratio",
                "steps",
                "time_step",
                "threads",
@@ -360,6 +367,8 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
                           r.k,
                           nan,
                           double(r.particles),
+                          r.mass > 0 ? r.mass : nan,
+                          r.mass > 0 && ref.mass > 0 ? r.mass / ref.mass : nan,
                           double(r.steps),
                           r.time_step,
                           double(r.threads),
@@ -471,10 +480,11 @@ void write_h5(const std::string& path, const Table& t, const SweepOptions& o, co
 void write_record(const std::string& path, const RunRecord& r) {
   std::ostringstream s;
   s << "run " << r.run << "\nlaw " << r.law << "\nk " << fmt(r.k) << "\nstatus " << r.status << "\nexit_code "
-    << r.exit_code << "\nthreads " << r.threads << "\nparticles " << r.particles << "\nsteps " << r.steps
-    << "\ntime_step " << fmt(r.time_step) << "\nwall_time_s " << fmt(r.wall_time) << "\ncpu_time_s "
-    << fmt(r.cpu_time) << "\nparticle_steps_per_s " << fmt(r.particle_steps_per_s)
-    << "\nengine_particle_steps_per_s " << fmt(r.engine_particle_steps_per_s) << "\n";
+    << r.exit_code << "\nthreads " << r.threads << "\nparticles " << r.particles << "\nmass_kg "
+    << fmt(r.mass) << "\nsteps " << r.steps << "\ntime_step " << fmt(r.time_step) << "\nwall_time_s "
+    << fmt(r.wall_time) << "\ncpu_time_s " << fmt(r.cpu_time) << "\nparticle_steps_per_s "
+    << fmt(r.particle_steps_per_s) << "\nengine_particle_steps_per_s " << fmt(r.engine_particle_steps_per_s)
+    << "\n";
   for (const auto& kv : r.values)
     s << "value " << kv.first << " " << fmt(kv.second) << "\n";
   for (const auto& kv : r.samples) {
@@ -530,6 +540,8 @@ RunRecord read_record(const std::string& path) {
       ls >> r.threads;
     else if (key == "particles")
       ls >> r.particles;
+    else if (key == "mass_kg")
+      ls >> r.mass;
     else if (key == "steps")
       ls >> r.steps;
     else if (key == "time_step")
@@ -714,10 +726,7 @@ int sweep_command(const std::vector<std::string>& args) {
         const long count = std::max(1L, std::lround(s.scene.groups[g].count / (k * k * k)));
         p.sets.push_back(key + ".count=" + std::to_string(count));
       }
-      std::vector<std::string> all = o.overrides;
-      all.insert(all.end(), p.sets.begin(), p.sets.end());
-      parse_scene_file(o.scene, all); // a bad law or factor fails here, before anything runs
-      return p;
+      return p; // checked below, with every other run, before anything runs
     };
     plans.push_back(plan("none", 1));
     for (const auto& law : o.laws)
@@ -729,6 +738,35 @@ int sweep_command(const std::vector<std::string>& args) {
   } catch (const std::exception& e) {
     std::cerr << "cgdem: " << o.scene << ": " << e.what() << "\n";
     return exit_bad_input;
+  }
+  // Every run checked as `cgdem check` would check it before the first one starts: a coarse run that would
+  // fail (a periodic axis shorter than 3 cells at its size, a step above its limit) stops the sweep here.
+  // The runs' warnings are shown, and a run whose particles do not weigh what the reference's weigh (a
+  // count that k^3 does not divide, a small polydisperse sample) is named: part of its error is sampling.
+  {
+    KokkosSession kokkos(1);
+    for (auto& p : plans) {
+      std::vector<std::string> all = o.overrides;
+      all.insert(all.end(), p.sets.begin(), p.sets.end());
+      try {
+        const RunCheck c = check_run(o.scene, all);
+        p.particles = c.particles;
+        p.mass = c.mass;
+        for (const auto& w : c.warnings)
+          std::fprintf(stderr, "cgdem sweep: %s: %s\n", p.run.c_str(), w.c_str());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "cgdem sweep: run %s (law %s, k = %s) would fail, nothing was run: %s\n",
+                     p.run.c_str(), p.law.c_str(), fmt(p.k).c_str(), e.what());
+        return exit_bad_input;
+      }
+    }
+    const double ref_mass = plans.front().mass;
+    for (const auto& p : plans)
+      if (ref_mass > 0 && std::fabs(p.mass / ref_mass - 1) > 0.01)
+        std::fprintf(stderr,
+                     "cgdem sweep: %s: its %ld particles weigh %+.1f %% against the reference's %ld: part of "
+                     "its error is sampling (mass_ratio in sweep.csv)\n",
+                     p.run.c_str(), p.particles, 100 * (p.mass / ref_mass - 1), plans.front().particles);
   }
 
   const int threads = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());

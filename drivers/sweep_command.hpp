@@ -30,6 +30,7 @@ struct RunRecord {
   double k = 1;
   int exit_code = 0;
   long particles = 0, steps = 0;
+  double mass = 0; // kg, of the run's particles at the start (0: not recorded)
   double time_step = 0, wall_time = 0, particle_steps_per_s = 0, engine_particle_steps_per_s = 0;
   double cpu_time = 0; // user + system seconds of the run's process (0: not recorded)
   int threads = 1;

@@ -433,6 +433,62 @@ TEST_F(CliTest, OutputPathsAreCheckedBeforeTheRun) {
   EXPECT_FALSE(fs::exists(dir / "x.h5"));
 }
 
+// A sweep checks every run as `cgdem check` would before the first starts: at k = 4 the 10 mm periodic axes
+// are shorter than 3 neighbour cells of 4 mm particles, so nothing runs and nothing is written.
+std::string drop_scene_free_spacing() { // the lattice spaced by the particles' size at every k
+  std::string s = drop_scene;
+  s.erase(s.find("      spacing: 0.00105\n"), std::string("      spacing: 0.00105\n").size());
+  return s;
+}
+
+TEST_F(CliTest, SweepWhoseCoarseRunWouldFailStopsBeforeAnyRun) {
+  write("base.yaml", drop_scene_free_spacing());
+  const Result r = cgdem("sweep base.yaml --laws bond --k 2,4 --no-plots --out sw");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("run bond_k4 (law bond, k = 4) would fail, nothing was run"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("periodic axis x"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "sw"));
+}
+
+// Each run's particle count and mass go to sweep.csv with its mass against the reference's, and a run whose
+// mass differs by more than 1 % is named (300 originals: 38 coarse particles of 8 originals each, +1.3 %).
+TEST_F(CliTest, SweepRecordsEachRunsMassAndNamesAMismatch) {
+  write("base.yaml", drop_scene_free_spacing());
+  const Result r =
+      cgdem("sweep base.yaml --laws bond --k 2 --no-plots --quiet --out sw --set groups.0.count=300 "
+            "--set time.end=0.002 --set output.every=0.001");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.err.find("bond_k2: its 38 particles weigh +1.3 % against the reference's 300"),
+            std::string::npos)
+      << r.err;
+  std::ifstream in(dir / "sw" / "sweep.csv");
+  std::string header, line;
+  std::getline(in, header);
+  const auto column = [&](const std::string& row, const std::string& name) {
+    std::vector<std::string> h, v;
+    std::stringstream hs(header), vs(row);
+    for (std::string c; std::getline(hs, c, ',');)
+      h.push_back(c);
+    for (std::string c; std::getline(vs, c, ',');)
+      v.push_back(c);
+    for (std::size_t c = 0; c < h.size() && c < v.size(); ++c)
+      if (h[c] == name) return v[c];
+    return std::string("missing");
+  };
+  const double bead = 2500 * 4.0 / 3.0 * M_PI * 0.0005 * 0.0005 * 0.0005;
+  int rows = 0;
+  while (std::getline(in, line)) {
+    ++rows;
+    const bool reference = line.rfind("reference,", 0) == 0;
+    EXPECT_NEAR(std::stod(column(line, "mass_kg")), 300 * bead * (reference ? 1 : 38.0 * 8 / 300),
+                1e-9 * bead)
+        << line;
+    EXPECT_NEAR(std::stod(column(line, "mass_ratio")), reference ? 1 : 38.0 * 8 / 300, 1e-12) << line;
+  }
+  EXPECT_EQ(rows, 2);
+}
+
 TEST_F(CliTest, SceneTooLargeForTheMachineIsRefusedWithBothFigures) {
   write("base.yaml", drop_scene);
   for (const char* command : {"check", "run"}) {
