@@ -420,11 +420,73 @@ private:
   long frames_ = 0;
 };
 
+// A flow or heap spreading along one axis: runout, front, height and free-surface angle (planar_flow).
+class PlanarFlow : public Analysis {
+public:
+  PlanarFlow(const Params& p) : Analysis(p.spec().name, p.spec().type) {
+    const std::string a = p.str("axis", "x");
+    const std::string bare = !a.empty() && (a[0] == '-' || a[0] == '+') ? a.substr(1) : a;
+    axis_ = bare == "x" ? 0 : bare == "y" ? 1 : bare == "z" ? 2 : -1;
+    direction_ = !a.empty() && a[0] == '-' ? -1 : 1;
+    if (axis_ < 0 || bare.size() != 1)
+      p.fail("axis",
+             "axis must be x, y or z, optionally signed (-x: the flow runs towards -x), got '" + a + "'",
+             "e.g. axis: x");
+    const std::string u = p.str("up", "z");
+    up_ = u == "x" ? 0 : u == "y" ? 1 : u == "z" ? 2 : -1;
+    if (up_ < 0 || up_ == axis_)
+      p.fail("up", "up must be x, y or z and differ from the flow axis, got '" + u + "'", "e.g. up: z");
+    origin_given_ = p.has("origin");
+    origin_ = p.num("origin", 0);
+    floor_given_ = p.has("floor");
+    floor_ = p.num("floor", 0);
+    bin_width_ = p.num("bin_width", 0);
+    if (p.has("bin_width") && !(bin_width_ > 0))
+      p.fail("bin_width", "bin_width must be > 0", "give a width in m, e.g. 4 particle radii");
+    const auto flank = p.list("flank", 2, {0.2, 0.8});
+    lo_ = flank[0];
+    hi_ = flank[1];
+    if (!(0 <= lo_ && lo_ < hi_ && hi_ <= 1))
+      p.fail("flank", "flank must be [lo, hi] with 0 <= lo < hi <= 1", "e.g. flank: [0.2, 0.8]");
+    group_ = p.group("group");
+  }
+  void evaluate(const AnalysisInput& in, std::map<std::string, double>& out) override {
+    const FrameData& f = in.frame;
+    const auto use = group_mask(f, group_);
+    double back = std::numeric_limits<double>::max(), bottom = back;
+    for (std::size_t i = 0; i < f.size(); ++i) {
+      if (!use.empty() && !use[i]) continue;
+      back = std::min(back, direction_ * f.position[3 * i + axis_] - f.radius[i]);
+      bottom = std::min(bottom, f.position[3 * i + up_] - f.radius[i]);
+    }
+    // Without an origin, the back of the particles at the first output (the column's back wall) is kept.
+    if (!origin_given_ && !origin_set_ && back < std::numeric_limits<double>::max()) {
+      origin_ = direction_ * back;
+      origin_set_ = true;
+    }
+    const double w = bin_width_ > 0 ? bin_width_ : 4 * max_radius(f);
+    const PlanarFlowFit fit =
+        planar_flow(f, use, axis_, direction_, up_, origin_, floor_given_ ? floor_ : bottom, w, lo_, hi_);
+    out[name()] = fit.runout;
+    out[name() + "_front"] = fit.front;
+    out[name() + "_height"] = fit.height;
+    out[name() + "_angle"] = fit.angle_deg;
+    out[name() + "_r2"] = fit.r2;
+    out[name() + "_bins"] = double(fit.bins_used);
+  }
+
+private:
+  int axis_ = 0, direction_ = 1, up_ = 2, group_ = -1;
+  bool origin_given_ = false, origin_set_ = false, floor_given_ = false;
+  double origin_ = 0, floor_ = 0, bin_width_ = 0, lo_ = 0.2, hi_ = 0.8;
+};
+
 } // namespace
 
 const std::vector<std::string>& analysis_types() {
   static const std::vector<std::string> t{"angle_of_repose", "wall_stress",           "unconfined_strength",
-                                          "profile",         "velocity_distribution", "drum_angle"};
+                                          "profile",         "velocity_distribution", "drum_angle",
+                                          "planar_flow"};
   return t;
 }
 
@@ -446,6 +508,8 @@ std::vector<std::unique_ptr<Analysis>> make_analyses(const Scene& scene) {
       made = std::make_unique<VelocityDistribution>(p);
     else if (a.type == "drum_angle")
       made = std::make_unique<DrumAngle>(p);
+    else if (a.type == "planar_flow")
+      made = std::make_unique<PlanarFlow>(p);
     else {
       std::string known, best;
       std::size_t best_d = 1000;
@@ -550,6 +614,59 @@ PileFit pile_angle(const FrameData& f, const std::vector<char>& use, double cx, 
   fit.angle_deg = std::atan(-line.slope) * 180 / kPi;
   fit.r2 = line.r2;
   fit.foot_radius = line.slope < 0 ? -line.intercept / line.slope : 0;
+  return fit;
+}
+
+PlanarFlowFit planar_flow(const FrameData& f, const std::vector<char>& use, int axis, int direction, int up,
+                          double origin, double floor, double bin_width, double lo_frac, double hi_frac) {
+  PlanarFlowFit fit;
+  const int across = 3 - axis - up;
+  const double lowest = -std::numeric_limits<double>::max();
+  std::map<long, std::map<long, double>> top; // [bin along the flow][strip across]: highest top
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!use.empty() && !use[i]) continue;
+    const double s = direction * (f.position[3 * i + axis] - origin);
+    const long b = static_cast<long>(std::floor(s / bin_width));
+    const long c = static_cast<long>(std::floor(f.position[3 * i + across] / bin_width));
+    auto [it, fresh] = top[b].try_emplace(c, lowest);
+    it->second = std::max(it->second, f.position[3 * i + up] + f.radius[i] - floor);
+  }
+  if (top.empty()) return fit;
+  std::map<long, double> height; // mean over the strips
+  for (const auto& [b, strips] : top) {
+    double sum = 0;
+    for (const auto& kv : strips)
+      sum += kv.second;
+    height[b] = sum / static_cast<double>(strips.size());
+  }
+  long peak = height.begin()->first;
+  for (const auto& [b, h] : height)
+    if (h > height[peak]) peak = b;
+  long last = peak;
+  while (height.count(last + 1))
+    ++last;
+  fit.height = height[peak];
+  double front = lowest;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (!use.empty() && !use[i]) continue;
+    const double s = direction * (f.position[3 * i + axis] - origin);
+    if (static_cast<long>(std::floor(s / bin_width)) <= last) front = std::max(front, s + f.radius[i]);
+  }
+  fit.runout = front;
+  fit.front = origin + direction * front;
+  std::vector<double> x, y;
+  for (long b = peak; b <= last; ++b) {
+    const double h = height[b];
+    if (h >= lo_frac * fit.height && h <= hi_frac * fit.height) {
+      x.push_back((b + 0.5) * bin_width);
+      y.push_back(h);
+    }
+  }
+  const LineFit line = fit_line(x, y);
+  fit.bins_used = line.n;
+  if (line.n < 2) return fit;
+  fit.angle_deg = std::atan(-line.slope) * 180 / kPi;
+  fit.r2 = line.r2;
   return fit;
 }
 

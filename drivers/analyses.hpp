@@ -15,8 +15,11 @@
 //   velocity_distribution mean speed (m/s); extras: std, median, p90, max; optional CSV of the PDF
 //   drum_angle            dynamic angle of repose in a rotating drum (degrees): total least-squares plane
 //                         through the top particles of the bed, tilt in the drum's cross-section
+//   planar_flow           runout of a flow or heap spreading along one axis (column collapse, slump, planar
+//                         heap; m); extras: front position, height, free-surface angle, r2, bins
 // The building blocks (fits, distances, profiles) are exposed for the unit tests and the sweep.
 #include <array>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -101,6 +104,27 @@ struct DrumFit {
 // `fit_fraction` of the bed's u range are fitted with a plane; the angle is atan |dv/du|.
 DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, const std::array<double, 3>& axis,
                    const std::array<double, 3>& up, double cell_width, double fit_fraction);
+
+struct PlanarFlowFit {
+  // nan until defined: no particles, or (angle, r2) fewer than 2 flank bins
+  double runout = std::numeric_limits<double>::quiet_NaN();    // front - origin along the flow, m
+  double front = std::numeric_limits<double>::quiet_NaN();     // front position on the flow axis, m
+  double height = std::numeric_limits<double>::quiet_NaN();    // highest surface height above the floor, m
+  double angle_deg = std::numeric_limits<double>::quiet_NaN(); // free-surface angle beyond the peak
+  double r2 = std::numeric_limits<double>::quiet_NaN();
+  std::size_t bins_used = 0;
+};
+// A flow or heap spreading along `axis` (0, 1, 2) in the direction `direction` (+1 or -1) from `origin` (the
+// gate or back wall's coordinate on that axis), heights along `up` over a floor at `floor`. Particles `use`
+// (all when empty) are binned along the flow (width bin_width, s = direction (x - origin)) and across it (the
+// third axis, strips of the same width); the surface height of a bin is the mean over its non-empty strips
+// of the highest particle top (up + r) - floor. Walking from the highest bin in the flow direction, the flow
+// ends before the first empty bin, so that particles thrown ahead of it do not move the front: the front is
+// the farthest particle edge (s + r) in the bins up to there. The free-surface angle is atan(-slope) of the
+// least-squares line through the surface heights of the bins from the peak to the front whose height is
+// within [lo_frac, hi_frac] x height.
+PlanarFlowFit planar_flow(const FrameData& f, const std::vector<char>& use, int axis, int direction, int up,
+                          double origin, double floor, double bin_width, double lo_frac, double hi_frac);
 
 // Distances between the empirical distributions of two samples (any order, any sizes > 0).
 double wasserstein1(std::vector<double> a, std::vector<double> b);

@@ -369,3 +369,96 @@ time: {end: 1}
                 .find("from must be >= 0"),
             std::string::npos);
 }
+
+namespace {
+
+// A planar heap along +x from x = 0: surface tops exactly on z = h - x tan(deg), random across y in [0,
+// 0.01], interior particles below, and one particle thrown 10 mm ahead of the front. `sign` -1 mirrors it to
+// -x.
+FrameData planar_heap(double deg, double h, double r, double sign, unsigned seed) {
+  FrameData f;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  const double t = std::tan(deg * kPi / 180), foot = h / t;
+  for (int k = 0; k < 20000; ++k) {
+    const double x = foot * u(rng), y = 0.01 * u(rng), top = h - x * t;
+    if (top < 2 * r) continue;
+    add(f, sign * x, y, top - r, r);
+    add(f, sign * x, y, r + (top - 3 * r) * u(rng), r);
+  }
+  add(f, sign * (foot + 0.01), 0.005, r, r);
+  return f;
+}
+
+} // namespace
+
+TEST(Analyses, PlanarHeapOfKnownAngleRunoutAndHeight) {
+  const double h = 0.01, r = 0.0002;
+  for (const double sign : {1.0, -1.0}) {
+    for (const double deg : {25.0, 35.0}) {
+      const FrameData f = planar_heap(deg, h, r, sign, 11);
+      const PlanarFlowFit fit = planar_flow(f, {}, 0, sign > 0 ? 1 : -1, 2, 0, 0, 0.0008, 0.2, 0.8);
+      // The last particles lie where the top reaches 2 r: x = (h - 2 r) / tan, plus their radius.
+      const double front = (h - 2 * r) / std::tan(deg * kPi / 180) + r;
+      EXPECT_NEAR(fit.runout, front, 0.0005) << deg << " degrees, sign " << sign;
+      EXPECT_NEAR(fit.front, sign * fit.runout, 1e-15);
+      EXPECT_NEAR(fit.height, h, 0.0003);
+      EXPECT_NEAR(fit.angle_deg, deg, 1.0);
+      EXPECT_GT(fit.r2, 0.98);
+      EXPECT_GE(fit.bins_used, 5u);
+    }
+  }
+}
+
+TEST(Analyses, PlanarFlowFromSceneWithNanUntilDefined) {
+  Scene s = parse_scene_text(R"(domain: {lo: [-0.05, -0.05, 0], hi: [0.05, 0.05, 0.05]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses:
+  - {type: planar_flow, name: slump, axis: -x, bin_width: 0.0008, origin: 0, floor: 0}
+)",
+                             "<test>");
+  auto list = make_analyses(s);
+  ASSERT_EQ(list.size(), 1u);
+  std::vector<std::string> names;
+  std::vector<double> forces;
+  std::map<std::string, double> out;
+  const FrameData heap = planar_heap(30, 0.01, 0.0002, -1, 5);
+  run_analyses(list, AnalysisInput{heap, 0.0, names, forces}, out);
+  EXPECT_NEAR(out.at("slump"), (0.01 - 0.0004) / std::tan(kPi / 6) + 0.0002, 0.0005);
+  EXPECT_NEAR(out.at("slump_angle"), 30, 1.0);
+  EXPECT_NEAR(out.at("slump_height"), 0.01, 0.0003);
+  // A single column of particles: height and runout defined, no flank to fit.
+  FrameData column;
+  for (int k = 0; k < 10; ++k)
+    add(column, -0.0001, 0.001, 0.0002 + 0.0004 * k, 0.0002);
+  out.clear();
+  run_analyses(list, AnalysisInput{column, 0.1, names, forces}, out);
+  EXPECT_NEAR(out.at("slump"), 0.0003, 1e-12);
+  EXPECT_NEAR(out.at("slump_height"), 0.004, 1e-12);
+  EXPECT_TRUE(std::isnan(out.at("slump_angle")));
+  EXPECT_EQ(out.at("slump_bins"), 0);
+  // No particles: nothing defined.
+  out.clear();
+  run_analyses(list, AnalysisInput{FrameData{}, 0.2, names, forces}, out);
+  EXPECT_TRUE(std::isnan(out.at("slump")));
+  EXPECT_TRUE(std::isnan(out.at("slump_height")));
+  // Bad axes are one-line scene errors naming the key.
+  for (const auto& [spec, key] :
+       std::vector<std::pair<std::string, std::string>>{{"{type: planar_flow, axis: w}", "analyses.0.axis"},
+                                                        {"{type: planar_flow, up: x}", "analyses.0.up"}}) {
+    std::string msg;
+    try {
+      make_analyses(parse_scene_text(R"(domain: {lo: [-0.05, -0.05, 0], hi: [0.05, 0.05, 0.05]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses: [)" + spec + "]\n",
+                                     "<test>"));
+    } catch (const SceneError& e) {
+      msg = e.what();
+    }
+    EXPECT_NE(msg.find(key), std::string::npos) << spec << ": " << msg;
+  }
+}
