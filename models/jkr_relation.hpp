@@ -99,7 +99,8 @@ KOKKOS_INLINE_FUNCTION Real solve_x(Real d, Real guess, int* iterations = nullpt
 // The resolvent m^3 + Q m - P^2/8 = 0 has one real root while its discriminant P^4/256 + Q^3/27 is positive
 // (it vanishes exactly at the separation point S, where the two real roots of the quartic meet):
 // Cardano's m = A - B with A^3 = P^2/16 + s, B^3 = s - P^2/16, s = sqrt(P^4/256 + Q^3/27), so A B = Q/3 (one
-// cube root only), written m = (P^2/8) / (A^2 + A B + B^2) (A^3 - B^3 = P^2/8) so that no difference cancels
+// cube root only, taken as its inverse so that neither A nor B = Q/(3A) costs a division), written
+// m = (P^2/8) / (A^2 + A B + B^2) (A^3 - B^3 = P^2/8) so that no difference cancels
 // for large Q. Near S the sqrt(2P/w - w^2) loses half the digits; two Newton steps on the quartic restore
 // them. The slope 4 z^3 - P vanishes at S (z_S = (P/4)^(1/3)): a step is taken only if z - |step| stays above
 // z_S, tested as 4 (z - |step|)^3 > P (no cube root), so that round-off in the estimate next to S cannot
@@ -108,8 +109,9 @@ KOKKOS_FORCEINLINE_FUNCTION Real solve_quartic_closed(Real P, Real Q) {
   const Real P2 = P * P;
   const Real disc = P2 * P2 * (1.0 / 256.0) + Q * Q * Q * (1.0 / 27.0);
   const Real s = math::sqrt(disc > 0 ? disc : 0);
-  const Real A = math::cbrt_positive(P2 * 0.0625 + s);
-  const Real B = Q / (3 * A); // A B = cbrt(s^2 - P^4/256) = cbrt(Q^3 / 27): no second cube root
+  const Real inv_A = math::inverse_cbrt_positive(P2 * 0.0625 + s); // no division
+  const Real A = (P2 * 0.0625 + s) * inv_A * inv_A;
+  const Real B = Q * inv_A * (1.0 / 3.0); // A B = cbrt(s^2 - P^4/256) = cbrt(Q^3 / 27): no second cube root
   const Real m = (0.125 * P2) / (A * A + A * B + B * B);
   const Real w = math::sqrt(2 * m);
   const Real q = 2 * P / w - w * w;

@@ -44,6 +44,19 @@ TEST(JkrClosedForm, CubeRootWithinThreeUlp) {
   EXPECT_LT(worst, 3 * 2.3e-16);
 }
 
+TEST(JkrClosedForm, InverseCubeRootWithinFourUlp) {
+  double worst = 0;
+  for (int k = 0; k <= 200000; ++k) {
+    const long double x = std::exp(-640 + 1280.0 * k / 200000);
+    const long double ref = 1 / std::cbrt(x);
+    worst = std::max(worst, double(std::fabs((math::inverse_cbrt_positive(double(x)) - ref) / ref)));
+  }
+  std::printf("[ report ] inverse_cbrt_positive: worst relative difference from 1/cbrt %.2e over 1e-278 .. "
+              "1e278\n",
+              worst);
+  EXPECT_LT(worst, 4 * 2.3e-16);
+}
+
 // Per decade of distance from S, the worst error of each solver against the long-double root. Next to S
 // the root is fixed by the double d only to ~eps / sqrt(d - d_S) (d delta / dx vanishes at S), for any
 // solver: there the closed form must be as good as the bracketed solver; from 1e-5 |d_S| on, within 1e-13.
