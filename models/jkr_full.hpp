@@ -24,14 +24,15 @@
 // surface_energy <= 0 gives exactly HertzTsuji.
 //
 // Written without early returns (every quantity computed, the inactive ones selected away) for the same
-// reason. History (2 Reals): [0] bonded flag (0 or 1), [1] the contact radius a of the step.
+// reason. History (1 Real): the bonded flag (0 or 1). The contact radius is solved afresh each step (closed
+// form, no warm start) and reported through `stiffness` = 2 E* a.
 #include "models/contact_law.hpp"
 #include "models/jkr_relation.hpp"
 
 namespace cgdem::models {
 
 struct JkrFull {
-  static constexpr int history_size = 2;
+  static constexpr int history_size = 1;
   static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "jkr";
 
@@ -90,7 +91,6 @@ struct JkrFull {
     r.stiffness = on > 0 ? S_n : 0.0;
     r.active = on > 0.5;
     h[0] = adhesive && bonded_now ? 1.0 : 0.0;
-    h[1] = adhesive && bonded_now ? a : 0.0;
     return r;
   }
 };

@@ -8,11 +8,13 @@
 #   bash scripts/fuzz.sh [target ...]      targets: scene particles checkpoint (default: all three)
 #   RUNS=200000 bash scripts/fuzz.sh scene
 #   MAX_TIME=300 bash scripts/fuzz.sh particles checkpoint
+#   FORK=2 bash scripts/fuzz.sh checkpoint  (fuzzing jobs side by side, default 1)
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 out="$repo/build-fuzz"
 runs=${RUNS:-1000000}
 max_time=${MAX_TIME:-0}
+fork=${FORK:-1}
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(scene particles checkpoint)
 
@@ -85,8 +87,8 @@ for t in "${targets[@]}"; do
   # this process (tests/fuzz/in_process_probe.cpp), so a crash or hang inside libhdf5 ends one job, is
   # saved as crash-*/timeout-*/oom-* in findings/, and the next job goes on; cgdem's own findings land there too.
   (cd "$out/findings/$t" && ASAN_OPTIONS=detect_leaks=0 UBSAN_OPTIONS=print_stacktrace=1 \
-     "$out/fuzz_$t" -fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
-     -runs="$runs" -max_total_time="$max_time" -max_len="$max_len" -timeout=5 -rss_limit_mb=2048 \
+     "$out/fuzz_$t" -fork="$fork" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1 \
+     -runs="$runs" -max_total_time="$max_time" -max_len="$max_len" -timeout=2 -rss_limit_mb=2048 \
      "$out/corpus/$t" "$seed_dir/$t" > "$out/$t.log" 2>&1) || echo "[fuzz] fuzz_$t exited non-zero: see $out/$t.log"
   # The last progress line has the executions, and how many crashes, timeouts and OOMs the jobs ended on.
   grep -E '^#[0-9]+:' "$out/$t.log" | tail -n 1 || true
