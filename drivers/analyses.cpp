@@ -628,8 +628,8 @@ PlanarFlowFit planar_flow(const FrameData& f, const std::vector<char>& use, int 
     const double s = direction * (f.position[3 * i + axis] - origin);
     const long b = static_cast<long>(std::floor(s / bin_width));
     const long c = static_cast<long>(std::floor(f.position[3 * i + across] / bin_width));
-    auto [it, fresh] = top[b].try_emplace(c, lowest);
-    it->second = std::max(it->second, f.position[3 * i + up] + f.radius[i] - floor);
+    double& t = top[b].try_emplace(c, lowest).first->second;
+    t = std::max(t, f.position[3 * i + up] + f.radius[i] - floor);
   }
   if (top.empty()) return fit;
   std::map<long, double> height; // mean over the strips

@@ -409,13 +409,13 @@ RunCheck check_run(const std::string& scene, const std::vector<std::string>& ove
   o.overrides = overrides;
   const PreparedRun p = prepare(o);
   require_analyses_and_physics(p);
-  make_engine(p.config, default_backend()); // grid and neighbour-list checks (periodic axes >= 3 cells)
+  // The engine built once: grid and neighbour-list checks (periodic axes >= 3 cells); its particles' masses
+  // are the ones the run simulates.
+  const auto engine = make_engine(p.config, default_backend());
   RunCheck c;
   c.particles = static_cast<long>(p.particles.size());
-  for (std::size_t i = 0; i < p.particles.size(); ++i) {
-    const double r = p.particles.radius[i];
-    c.mass += p.particles.density[i] * (4.0 / 3.0) * M_PI * r * r * r;
-  }
+  for (double m : engine->frame().mass)
+    c.mass += m;
   c.warnings = resolution_warnings(p.scene);
   return c;
 }

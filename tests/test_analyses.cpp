@@ -390,6 +390,16 @@ FrameData planar_heap(double deg, double h, double r, double sign, unsigned seed
   return f;
 }
 
+// A one-particle scene whose analyses are `list` (a flow YAML sequence).
+Scene scene_with_analyses(const std::string& list) {
+  return parse_scene_text(R"(domain: {lo: [-0.05, -0.05, 0], hi: [0.05, 0.05, 0.05]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses: )" + list + "\n",
+                          "<test>");
+}
+
 } // namespace
 
 TEST(Analyses, PlanarHeapOfKnownAngleRunoutAndHeight) {
@@ -411,15 +421,8 @@ TEST(Analyses, PlanarHeapOfKnownAngleRunoutAndHeight) {
 }
 
 TEST(Analyses, PlanarFlowFromSceneWithNanUntilDefined) {
-  Scene s = parse_scene_text(R"(domain: {lo: [-0.05, -0.05, 0], hi: [0.05, 0.05, 0.05]}
-materials: {m: {density: 1000, youngs_modulus: 1e6}}
-groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
-time: {end: 1}
-analyses:
-  - {type: planar_flow, name: slump, axis: -x, bin_width: 0.0008, origin: 0, floor: 0}
-)",
-                             "<test>");
-  auto list = make_analyses(s);
+  auto list = make_analyses(scene_with_analyses(
+      "[{type: planar_flow, name: slump, axis: -x, bin_width: 0.0008, origin: 0, floor: 0}]"));
   ASSERT_EQ(list.size(), 1u);
   std::vector<std::string> names;
   std::vector<double> forces;
@@ -450,12 +453,7 @@ analyses:
                                                         {"{type: planar_flow, up: x}", "analyses.0.up"}}) {
     std::string msg;
     try {
-      make_analyses(parse_scene_text(R"(domain: {lo: [-0.05, -0.05, 0], hi: [0.05, 0.05, 0.05]}
-materials: {m: {density: 1000, youngs_modulus: 1e6}}
-groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
-time: {end: 1}
-analyses: [)" + spec + "]\n",
-                                     "<test>"));
+      make_analyses(scene_with_analyses("[" + spec + "]"));
     } catch (const SceneError& e) {
       msg = e.what();
     }
