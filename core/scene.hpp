@@ -2,6 +2,7 @@
 // The scene description: what a YAML scene file says, after parsing and validation
 // (drivers/scene_parser.cpp), in SI units. Plain host data; the engine builds its device state from it.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -110,13 +111,24 @@ struct GroupSpec {
 
 struct WallSpec {
   std::string name;
-  std::string type = "plane"; // plane | cylinder
+  std::string type = "plane"; // plane | cylinder | cone
   std::string material;
-  Vec3d point{0, 0, 0};  // plane: a point on it; cylinder: centre of its base
+  Vec3d point{0, 0, 0};  // plane: a point on it (a bounded plane's centre); cylinder, cone: base centre
   Vec3d normal{0, 0, 1}; // plane: unit normal pointing into the particles
-  Vec3d axis{0, 0, 1};   // cylinder axis (unit)
-  double radius = 0, length = 0;
-  bool caps = false; // cylinder end caps
+  Vec3d axis{0, 0, 1};   // cylinder, cone axis (unit)
+  double radius = 0, length = 0; // cylinder radius; cone radius at point; plane: disk bound (0: none)
+  double end_radius = 0;         // cone radius at point + length * axis
+  double size[2] = {0, 0};       // plane: rectangle side lengths (0: none), the first along `edge`
+  Vec3d edge{0, 0, 0};           // plane: direction of the rectangle's first side (zero: chosen)
+  double orifice = 0;            // plane: radius of a hole around point (a bounded plane only)
+  bool caps = false;             // cylinder end caps
+  bool bounded() const { return type == "plane" && (radius > 0 || size[0] > 0); }
+  // Largest distance of the wall's surface from its axis (the rim speed of a rotating wall).
+  double reach_radius() const {
+    if (type == "cone") return radius > end_radius ? radius : end_radius;
+    if (type == "plane" && size[0] > 0) return 0.5 * std::sqrt(size[0] * size[0] + size[1] * size[1]);
+    return radius;
+  }
   // Motion: translation velocity and rotation rate about the axis (rad/s), active in [start, stop).
   Vec3d velocity{0, 0, 0};
   double angular_velocity = 0;

@@ -1,21 +1,32 @@
 #pragma once
-// Walls as plain device structs: infinite (or disk-bounded) planes and the inner side of finite
-// cylinders, with a prescribed translation and a rotation about their own axis (a rotating drum).
-// A cylinder's end caps are expanded on the host into two disk-bounded planes that report their
-// force to the cylinder (owner), so every wall part has its own contact-history slot.
+// Walls as plain device structs, each moving by prescribed translation segments and a rotation about its
+// own axis (a rotating drum, an impeller's hub, a lifted gate):
+//   - Plane: an infinite half-space boundary (a floor); the particles are on the side the normal points to.
+//   - Plate: a bounded plane (rectangle, disk, either with a circular orifice): a thin two-sided sheet
+//     with edges, touched on either face and at its rim (a gate, a silo floor with an outlet).
+//   - Cylinder: the inner side of a finite cylinder (a drum, a die).
+//   - Cone: a thin frustum, radius `radius` at `point` and `end_radius` at point + length * axis, touched
+//     on either side and at both rims (a hopper whose orifice is the narrow end).
+// A cylinder's end caps are expanded on the host into two disk plates that report their force to the
+// cylinder (owner), so every wall part has its own contact-history slot.
 #include "core/types.hpp"
 
 namespace cgdem {
 
 struct Wall {
-  enum Type : int { Plane = 0, Cylinder = 1 };
+  enum Type : int { Plane = 0, Cylinder = 1, Plate = 2, Cone = 3 };
   int type = Plane;
   int material = 0;
   int owner = 0;             // index of the named wall this part belongs to (force reporting)
-  Vec3 point;                // plane: a point on it; cylinder: centre of the base at time 0
-  Vec3 axis{0, 0, 1};        // plane: unit normal into the particles; cylinder: unit axis
-  Real radius = 0;           // cylinder radius; for a plane > 0 bounds it to a disk around point
-  Real length = 0;           // cylinder length along the axis
+  Vec3 point;                // plane, plate: a point on it (a plate's centre); cylinder, cone: base centre
+  Vec3 axis{0, 0, 1};        // plane, plate: unit normal (into the particles for a plane); others: unit axis
+  Vec3 edge{1, 0, 0};        // plate: unit direction of the rectangle's first side (in the plane)
+  Real radius = 0;           // cylinder radius; cone radius at point; plate: > 0 bounds it to a disk
+  Real end_radius = 0;       // cone radius at point + length * axis
+  Real half_width = 0;       // plate: > 0 bounds it to a rectangle 2 half_width (along edge) x ...
+  Real half_height = 0;      // ... 2 half_height (along axis x edge)
+  Real orifice = 0;          // plate: radius of a circular hole around point
+  Real length = 0;           // cylinder, cone: length along the axis
   Vec3 velocity;             // translation while moving
   Real angular_velocity = 0; // rad/s about axis through point
   Real motion_start = 0, motion_stop = 1e300;
@@ -51,9 +62,10 @@ struct Wall {
 struct PlacedWall {
   int type = Wall::Plane;
   int material = 0;
-  Vec3 base; // plane: a point on it; cylinder: centre of the base
+  Vec3 base; // plane, plate: a point on it; cylinder, cone: centre of the base
   Vec3 axis{0, 0, 1};
-  Real radius = 0, length = 0;
+  Vec3 edge{1, 0, 0};
+  Real radius = 0, end_radius = 0, half_width = 0, half_height = 0, orifice = 0, length = 0;
   Vec3 velocity; // translation velocity
   Real spin = 0; // angular velocity about the axis through base
 };
@@ -64,7 +76,12 @@ KOKKOS_INLINE_FUNCTION PlacedWall place(const Wall& w, Real t) {
   p.material = w.material;
   p.base = w.point + w.offset(t);
   p.axis = w.axis;
+  p.edge = w.edge;
   p.radius = w.radius;
+  p.end_radius = w.end_radius;
+  p.half_width = w.half_width;
+  p.half_height = w.half_height;
+  p.orifice = w.orifice;
   p.length = w.length;
   p.velocity = w.translation_velocity(t);
   p.spin = w.moving(t) ? w.angular_velocity : 0;
@@ -77,7 +94,35 @@ struct WallContact {
   bool reachable = false; // the particle is within the wall's extent (otherwise no interaction)
   Vec3 rel;               // from the wall's base to the particle's centre
   Real along = 0;         // plane: distance of the centre from it; cylinder: axial position
+  Vec3 touch;             // plate, cone: the wall's point nearest the centre, from the base
 };
+
+// The point of a plate nearest to `rel` (relative to its centre): the in-plane projection clamped to the
+// rectangle, the disk and out of the orifice. `on_face` tells whether the projection needed no clamping.
+KOKKOS_INLINE_FUNCTION Vec3 plate_nearest(const PlacedWall& w, const Vec3& rel, Real along, bool& on_face) {
+  Vec3 q = rel - along * w.axis;
+  on_face = true;
+  if (w.half_width > 0) {
+    const Vec3 second = cross(w.axis, w.edge);
+    const Real u = dot(q, w.edge), v = dot(q, second);
+    const Real cu = u < -w.half_width ? -w.half_width : (u > w.half_width ? w.half_width : u);
+    const Real cv = v < -w.half_height ? -w.half_height : (v > w.half_height ? w.half_height : v);
+    if (cu != u || cv != v) {
+      on_face = false;
+      q = q + (cu - u) * w.edge + (cv - v) * second;
+    }
+  }
+  const Real r2 = norm2(q);
+  if (w.radius > 0 && r2 > w.radius * w.radius) {
+    on_face = false;
+    q = (w.radius / math::sqrt(r2)) * q;
+  }
+  if (w.orifice > 0 && r2 < w.orifice * w.orifice && r2 > 0) {
+    on_face = false;
+    q = (w.orifice / math::sqrt(r2)) * q;
+  }
+  return q;
+}
 
 // Geometry only: every particle is tested against every wall each step, and most are far from it, so
 // the lever arm to the contact point is left to wall_surface_velocity, called for the particles within
@@ -85,26 +130,55 @@ struct WallContact {
 KOKKOS_INLINE_FUNCTION WallContact wall_contact(const PlacedWall& w, const Vec3& x, Real radius) {
   WallContact c;
   c.rel = x - w.base;
+  c.along = dot(c.rel, w.axis);
   if (w.type == Wall::Plane) {
-    c.along = dot(c.rel, w.axis);
-    if (w.radius > 0) {
-      const Vec3 in_plane = c.rel - c.along * w.axis;
-      if (norm2(in_plane) > w.radius * w.radius) return c;
-    }
     c.reachable = true;
     c.overlap = radius - c.along;
     c.normal = -w.axis;
     return c;
   }
-  // Inner side of a cylinder.
-  c.along = dot(c.rel, w.axis);
-  if (c.along < 0 || c.along > w.length) return c;
-  const Vec3 radial = c.rel - c.along * w.axis;
-  const Real r = norm(radial);
-  if (r <= 0) return c;
+  if (w.type == Wall::Cylinder) { // inner side
+    if (c.along < 0 || c.along > w.length) return c;
+    const Vec3 radial = c.rel - c.along * w.axis;
+    const Real r = norm(radial);
+    if (r <= 0) return c;
+    c.reachable = true;
+    c.normal = (1.0 / r) * radial;
+    c.overlap = radius - (w.radius - r);
+    return c;
+  }
+  // Plate and cone: the nearest point of the sheet, on a face or a rim.
+  if (w.type == Wall::Plate) {
+    bool on_face = false;
+    c.touch = plate_nearest(w, c.rel, c.along, on_face);
+    if (on_face) { // the nearest point is the foot of the normal: the distance is |along|
+      if (c.along == 0) return c;
+      c.reachable = true;
+      c.overlap = radius - (c.along > 0 ? c.along : -c.along);
+      c.normal = c.along > 0 ? -w.axis : w.axis;
+      return c;
+    }
+  } else {
+    // In the meridional half-plane (s along the axis, rho from it) the cone is the segment from
+    // (0, radius) to (length, end_radius).
+    Vec3 radial = c.rel - c.along * w.axis;
+    const Real rho = norm(radial);
+    if (rho > 0) {
+      radial = (1.0 / rho) * radial;
+    } else { // on the axis: every direction is as near; take a fixed one
+      radial = w.edge;
+    }
+    const Real ds = w.length, dr = w.end_radius - w.radius;
+    Real t = (c.along * ds + (rho - w.radius) * dr) / (ds * ds + dr * dr);
+    t = t < 0 ? 0 : (t > 1 ? 1 : t);
+    c.touch = (t * ds) * w.axis + (w.radius + t * dr) * radial;
+  }
+  const Vec3 away = c.rel - c.touch; // from the sheet to the centre
+  const Real dist = norm(away);
+  if (dist <= 0) return c; // the centre on the sheet: no side to push it to
   c.reachable = true;
-  c.normal = (1.0 / r) * radial;
-  c.overlap = radius - (w.radius - r);
+  c.normal = (-1.0 / dist) * away;
+  c.overlap = radius - dist;
   return c;
 }
 
@@ -116,7 +190,16 @@ KOKKOS_INLINE_FUNCTION WallContact wall_contact(const Wall& w, Real t, const Vec
 // Velocity of the wall's surface at the contact point of `c` (translation plus rotation about the axis),
 // with the arm from the axis to the contact point.
 KOKKOS_INLINE_FUNCTION Vec3 wall_surface_velocity(const PlacedWall& w, const WallContact& c) {
-  const Vec3 arm = w.type == Wall::Plane ? c.rel - c.along * w.axis : c.along * w.axis + w.radius * c.normal;
+  Vec3 arm;
+  if (w.type == Wall::Plane) {
+    arm = c.rel - c.along * w.axis;
+  } else if (w.type == Wall::Cylinder) {
+    arm = c.along * w.axis + w.radius * c.normal;
+  } else if (w.type == Wall::Plate) {
+    arm = c.touch; // in the plane through the base
+  } else {
+    arm = c.touch - dot(c.touch, w.axis) * w.axis;
+  }
   return w.velocity + w.spin * cross(w.axis, arm);
 }
 

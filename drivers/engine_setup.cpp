@@ -14,6 +14,17 @@ Vec3 unit(const Vec3d& v) {
   const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
   return Vec3{v[0] / n, v[1] / n, v[2] / n};
 }
+// A unit direction perpendicular to `normal`: `wanted` with its normal part removed, or when that is zero
+// the coordinate axis least aligned with the normal, projected (a plate's first side, a cone's reference
+// radial).
+Vec3 in_plane_direction(const Vec3& normal, Vec3 wanted) {
+  if (norm2(wanted) == 0) {
+    const double ax = std::fabs(normal.x), ay = std::fabs(normal.y), az = std::fabs(normal.z);
+    wanted = ax <= ay && ax <= az ? Vec3{1, 0, 0} : (ay <= az ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
+  }
+  const Vec3 e = wanted - dot(wanted, normal) * normal;
+  return (1.0 / norm(e)) * e;
+}
 } // namespace
 
 EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles,
@@ -48,13 +59,21 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
     const WallSpec& s = scene.walls[w];
     c.wall_names.push_back(s.name);
     Wall wall;
-    wall.type = s.type == "cylinder" ? Wall::Cylinder : Wall::Plane;
+    wall.type = s.type == "cylinder" ? Wall::Cylinder
+                : s.type == "cone"   ? Wall::Cone
+                : s.bounded()        ? Wall::Plate
+                                     : Wall::Plane;
     wall.material = std::max(0, scene.material_index(s.material));
     wall.owner = static_cast<int>(w);
     wall.point = to_vec(s.point);
-    wall.axis = wall.type == Wall::Cylinder ? unit(s.axis) : unit(s.normal);
+    wall.axis = s.type == "plane" ? unit(s.normal) : unit(s.axis);
     wall.radius = s.radius;
+    wall.end_radius = s.end_radius;
     wall.length = s.length;
+    wall.orifice = s.orifice;
+    wall.edge = in_plane_direction(wall.axis, to_vec(s.edge));
+    wall.half_width = 0.5 * s.size[0];
+    wall.half_height = 0.5 * s.size[1];
     wall.velocity = to_vec(s.velocity);
     wall.angular_velocity = s.angular_velocity;
     wall.motion_start = s.motion_start;
@@ -69,7 +88,7 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
     if (wall.type == Wall::Cylinder && s.caps) {
       // End caps: disks at both ends facing inward, moving with the cylinder.
       Wall bottom = wall;
-      bottom.type = Wall::Plane;
+      bottom.type = Wall::Plate;
       bottom.length = 0;
       Wall top = bottom;
       top.point = wall.point + wall.length * wall.axis;

@@ -48,8 +48,11 @@ Width narrowest(const Scene& scene) {
     if (scene.domain.periodic[a] && !along_gravity(e))
       consider(scene.domain.hi[a] - scene.domain.lo[a], std::string("periodic length along ") + axis_name[a]);
   }
-  for (const WallSpec& w : scene.walls)
+  for (const WallSpec& w : scene.walls) {
     if (w.type == "cylinder") consider(2 * w.radius, "cylinder '" + w.name + "' diameter");
+    if (w.type == "cone") consider(2 * std::min(w.radius, w.end_radius), "orifice of cone '" + w.name + "'");
+    if (w.orifice > 0) consider(2 * w.orifice, "orifice of '" + w.name + "'");
+  }
   for (std::size_t i = 0; i < scene.walls.size(); ++i)
     for (std::size_t j = i + 1; j < scene.walls.size(); ++j) {
       const WallSpec &a = scene.walls[i], &b = scene.walls[j];

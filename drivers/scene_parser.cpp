@@ -51,7 +51,7 @@ const std::vector<std::string> kCoarseLaws = {
     "hu_method1", "hu_method2",   "hu_method3", "sakai"};
 const std::vector<std::string> kDistributions = {"mono", "uniform", "normal", "lognormal"};
 const std::vector<std::string> kPlacements = {"lattice", "random_box", "random_cylinder", "file"};
-const std::vector<std::string> kWallTypes = {"plane", "cylinder"};
+const std::vector<std::string> kWallTypes = {"plane", "cylinder", "cone"};
 const std::vector<std::string> kOutputFields = {"position", "velocity", "angular_velocity", "radius", "mass",
                                                 "group",    "id"};
 
@@ -795,9 +795,9 @@ struct Parser {
                "write walls: as a list of '- name: ...' entries");
     for (std::size_t i = 0; i < f.node.size(); ++i) {
       const Field wf = item(f, i);
-      MapView m(
-          ctx, wf,
-          {"name", "type", "material", "point", "normal", "axis", "radius", "length", "caps", "motion"});
+      MapView m(ctx, wf,
+                {"name", "type", "material", "point", "normal", "axis", "radius", "end_radius", "length",
+                 "size", "edge", "orifice", "caps", "motion"});
       WallSpec w;
       w.name = m.has("name") ? as_str(ctx, m.get("name")) : "wall" + std::to_string(i);
       for (const auto& other : scene.walls)
@@ -805,38 +805,83 @@ struct Parser {
           ctx.fail(m.sub("name"), m.get("name").mark, "wall name '" + w.name + "' is used twice",
                    "give every wall its own name");
       if (m.has("type")) w.type = as_choice(ctx, m.get("type"), kWallTypes, "wall type");
-      const std::vector<std::string> allowed =
-          w.type == "plane"
-              ? std::vector<std::string>{"name", "type", "material", "point", "normal", "motion"}
-              : std::vector<std::string>{"name",   "type",   "material", "point", "axis",
-                                         "radius", "length", "caps",     "motion"};
+      std::vector<std::string> allowed = {"name", "type", "material", "point", "motion"};
+      if (w.type == "plane") allowed.insert(allowed.end(), {"normal", "radius", "size", "edge", "orifice"});
+      if (w.type == "cylinder") allowed.insert(allowed.end(), {"axis", "radius", "length", "caps"});
+      if (w.type == "cone") allowed.insert(allowed.end(), {"axis", "radius", "end_radius", "length"});
       for (const auto& k : m.keys())
         if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
           ctx.fail(m.sub(k), m.get(k).mark, "key '" + k + "' does not apply to a " + w.type + " wall",
                    "remove it (keys for a " + w.type + " wall: " + join(allowed) + ")");
       w.material = material_ref(m.require("material", "name the wall's material"));
       opt_vec3(ctx, m, "point", w.point);
+      auto unit_vector = [&](const char* key, Vec3d& v) {
+        opt_vec3(ctx, m, key, v);
+        const double n = norm(v);
+        check(ctx, n > 0, m.get(key), std::string(key) + " is the zero vector",
+              "give a direction, e.g. [0, 0, 1]");
+        for (double& c : v)
+          c /= n;
+      };
+      auto length_key = [&](const char* key, double& v, bool required, bool zero_ok,
+                            const std::string& what) {
+        if (!m.has(key)) {
+          if (required) m.require(key, "give the " + what + " in m");
+          return;
+        }
+        v = as_num(ctx, m.get(key));
+        check(ctx, zero_ok ? v >= 0 : v > 0, m.get(key),
+              std::string(key) + " must be " + (zero_ok ? ">= 0" : "> 0") + " (got " + num_str(v) + ")",
+              "give the " + what + " in m");
+      };
       if (w.type == "plane") {
-        opt_vec3(ctx, m, "normal", w.normal);
-        const double n = norm(w.normal);
-        check(ctx, n > 0, m.get("normal"), "normal is the zero vector", "give a direction, e.g. [0, 0, 1]");
-        for (double& c : w.normal)
-          c /= n;
+        unit_vector("normal", w.normal);
+        length_key("radius", w.radius, false, false, "radius of the disk that bounds the plane");
+        if (m.has("size")) {
+          const Field sf = m.get("size");
+          if (!sf.node.IsSequence() || sf.node.size() != 2)
+            ctx.fail(sf.path, sf.mark, "expected a list of two side lengths, got " + describe(sf.node),
+                     "write size: [width, height] in m, e.g. size: [0.05, 0.02]");
+          for (std::size_t k = 0; k < 2; ++k) {
+            const Field e = item(sf, k);
+            w.size[k] = as_num(ctx, e);
+            check(ctx, w.size[k] > 0, e, "side length must be > 0 (got " + num_str(w.size[k]) + ")",
+                  "give the rectangle's side lengths in m");
+          }
+        }
+        if (m.has("edge")) {
+          check(ctx, m.has("size"), m.get("edge"), "edge is given without size",
+                "give size: [width, height] too (edge is the direction of the width)");
+          Vec3d e = as_vec3(ctx, m.get("edge"));
+          const double along = e[0] * w.normal[0] + e[1] * w.normal[1] + e[2] * w.normal[2];
+          for (int a = 0; a < 3; ++a)
+            e[a] -= along * w.normal[a];
+          check(ctx, norm(e) > 1e-9 * norm(as_vec3(ctx, m.get("edge"))), m.get("edge"),
+                "edge is parallel to the normal", "give a direction in the plane, e.g. [1, 0, 0]");
+          w.edge = e;
+        }
+        length_key("orifice", w.orifice, false, false, "radius of the hole around point");
+        if (m.has("orifice")) {
+          check(ctx, w.bounded(), m.get("orifice"), "an orifice needs a bounded plane",
+                "give radius (a disk) or size (a rectangle) too: an infinite plane has no rim to cut into");
+          const double limit = w.radius > 0 ? w.radius : 0.5 * std::min(w.size[0], w.size[1]);
+          check(ctx, w.orifice < limit, m.get("orifice"),
+                "orifice " + num_str(w.orifice) + " m does not fit inside the plane (" + num_str(limit) +
+                    " m)",
+                "make the orifice smaller than the plane's radius or half its shorter side");
+        }
       } else {
-        opt_vec3(ctx, m, "axis", w.axis);
-        const double n = norm(w.axis);
-        check(ctx, n > 0, m.get("axis"), "axis is the zero vector", "give a direction, e.g. [0, 0, 1]");
-        for (double& c : w.axis)
-          c /= n;
-        const Field rf = m.require("radius", "give the cylinder radius in m");
-        w.radius = as_num(ctx, rf);
-        check(ctx, w.radius > 0, rf, "radius must be > 0 (got " + num_str(w.radius) + ")",
-              "give the cylinder radius in m");
-        const Field lf = m.require("length", "give the cylinder length along its axis in m");
-        w.length = as_num(ctx, lf);
-        check(ctx, w.length > 0, lf, "length must be > 0 (got " + num_str(w.length) + ")",
-              "give the cylinder length in m");
-        opt_bool(ctx, m, "caps", w.caps);
+        unit_vector("axis", w.axis);
+        length_key("length", w.length, true, false, w.type + " length along its axis");
+        if (w.type == "cylinder") {
+          length_key("radius", w.radius, true, false, "cylinder radius");
+          opt_bool(ctx, m, "caps", w.caps);
+        } else {
+          length_key("radius", w.radius, true, true, "cone radius at point (0 for a closed tip)");
+          length_key("end_radius", w.end_radius, true, true, "cone radius at the far end");
+          check(ctx, w.radius > 0 || w.end_radius > 0, m.get("end_radius"), "both radii are 0",
+                "give the cone's radius at point (the orifice) and at the far end");
+        }
       }
       if (m.has("motion")) parse_motion(m.get("motion"), w);
       scene.walls.push_back(w);

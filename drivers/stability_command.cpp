@@ -41,6 +41,9 @@ bool floor_holds(const Scene& s) {
   for (const WallSpec& w : s.walls) {
     if (w.type == "plane" && dot3(w.normal, s.gravity) < -0.5 * g * std::sqrt(dot3(w.normal, w.normal)))
       return true;
+    if (w.type == "cone" && std::min(w.radius, w.end_radius) == 0 &&
+        std::fabs(dot3(w.axis, s.gravity)) > 0.5 * g * std::sqrt(dot3(w.axis, w.axis)))
+      return true;
     if (w.type == "cylinder" && w.caps &&
         std::fabs(dot3(w.axis, s.gravity)) > 0.5 * g * std::sqrt(dot3(w.axis, w.axis)))
       return true;
