@@ -277,8 +277,8 @@ TEST(SceneParser, CoarseGrain) {
 }
 
 TEST(SceneParser, KeysThatDoNotApply) {
-  const std::string t1 = replaced(kBase, "    normal: [0, 0, 2]", "    normal: [0, 0, 2]\n    radius: 0.01");
-  expect_error(t1, line_of(t1, "radius: 0.01"), "walls.0.radius", "does not apply to a plane wall",
+  const std::string t1 = replaced(kBase, "    normal: [0, 0, 2]", "    normal: [0, 0, 2]\n    length: 0.01");
+  expect_error(t1, line_of(t1, "length: 0.01"), "walls.0.length", "does not apply to a plane wall",
                "remove it");
   const std::string t2 = replaced(kBase, "{radius: 0.0005}", "{radius: 0.0005, std: 0.0001}");
   expect_error(t2, line_of(t2, "std: 0.0001"), "groups.0.size.std", "does not apply to a mono distribution",
@@ -458,4 +458,52 @@ TEST(SceneParser, TorquePowerDampingAndLeverArm) {
   const std::string t3 = replaced(kBase, "normal: hertz", "normal: jkr\n  restitution_speed_ratio: 0.5");
   expect_error(t3, line_of(t3, "restitution_speed_ratio: 0.5"), "contact.restitution_speed_ratio",
                "must be > 1", "sticking velocities");
+}
+
+TEST(SceneParser, BoundedPlatesConesInletsAndOutlets) {
+  const std::string gate =
+      "  - name: gate\n    type: plane\n    material: steel\n    point: [0.01, 0.01, 0.01]\n"
+      "    normal: [1, 0, 0]\n    size: [0.005, 0.008]\n    edge: [0, 1, 0]\n";
+  const std::string hopper =
+      "  - name: hopper\n    type: cone\n    material: steel\n    point: [0.01, 0.01, 0.01]\n"
+      "    axis: [0, 0, 1]\n    radius: 0.002\n    end_radius: 0.009\n    length: 0.01\n";
+  const std::string inlet =
+      "    placement:\n      type: inlet\n      lo: [0, 0, 0.03]\n      hi: [0.02, 0.02, 0.04]\n"
+      "      mass_rate: 0.01\n      start: 0.1\n      every: 0.002\n";
+  std::string t = replaced(kBase, "walls:\n", "walls:\n" + gate + hopper);
+  t = replaced(t, "    placement: {type: lattice, lo: [0, 0, 0.025], hi: [0.02, 0.02, 0.04]}\n", inlet);
+  t = replaced(
+      t, "time:\n",
+      "outlets:\n  - name: drain\n    type: plane\n    point: [0, 0, 0.001]\n"
+      "    normal: [0, 0, 2]\n  - {name: bin, type: box, lo: [0, 0, 0], hi: [0.02, 0.02, 0.001]}\ntime:\n");
+  const Scene s = parse_scene_text(t, "scene.yaml", {});
+  ASSERT_EQ(s.walls.size(), 4u);
+  EXPECT_TRUE(s.walls[0].bounded());
+  EXPECT_DOUBLE_EQ(s.walls[0].size[1], 0.008);
+  EXPECT_EQ(s.walls[1].type, "cone");
+  EXPECT_DOUBLE_EQ(s.walls[1].end_radius, 0.009);
+  EXPECT_EQ(s.groups[1].placement.kind, "inlet");
+  EXPECT_DOUBLE_EQ(s.groups[1].placement.mass_rate, 0.01);
+  EXPECT_DOUBLE_EQ(s.groups[1].placement.start, 0.1);
+  ASSERT_EQ(s.outlets.size(), 2u);
+  EXPECT_DOUBLE_EQ(s.outlets[0].normal[2], 1.0); // normalised
+  EXPECT_EQ(s.outlets[1].type, "box");
+
+  const std::string both = replaced(t, "      mass_rate: 0.01\n", "      mass_rate: 0.01\n      rate: 100\n");
+  EXPECT_NE(error_of(both).find("both rate and mass_rate are given"), std::string::npos) << error_of(both);
+  const std::string none = replaced(t, "      mass_rate: 0.01\n", "");
+  EXPECT_NE(error_of(none).find("the inlet has no rate"), std::string::npos) << error_of(none);
+  const std::string box_key =
+      replaced(t, "    normal: [0, 0, 2]\n  - {name: bin", "    lo: [0, 0, 0]\n  - {name: bin");
+  expect_error(box_key, line_of(box_key, "    lo: [0, 0, 0]\n  - {name: bin"), "outlets.0.lo",
+               "does not apply to a plane outlet", "remove it");
+  const std::string flat = replaced(t, "hi: [0.02, 0.02, 0.001]", "hi: [0.02, 0.02, 0]");
+  EXPECT_NE(error_of(flat).find("is not above lo z"), std::string::npos) << error_of(flat);
+  const std::string pinched =
+      replaced(t, "    radius: 0.002\n    end_radius: 0.009\n", "    radius: 0\n    end_radius: 0\n");
+  EXPECT_NE(error_of(pinched).find("both radii are 0"), std::string::npos) << error_of(pinched);
+  const std::string cone_caps =
+      replaced(t, "    end_radius: 0.009\n", "    end_radius: 0.009\n    caps: true\n");
+  EXPECT_NE(error_of(cone_caps).find("does not apply to a cone wall"), std::string::npos)
+      << error_of(cone_caps);
 }
