@@ -95,6 +95,9 @@ struct PlacementSpec {
   double spacing = 0; // lattice spacing (default: largest diameter * 1.05)
   std::uint64_t seed = 1;
   std::string file; // CSV (id,x,y,z,radius[,density]) or HDF5 (a cgdem frame)
+  // inlet: particles appear in the box lo..hi during the run, at `rate` particles/s or `mass_rate` kg/s
+  // (of the particles as simulated) from `start`, every `every` s, until the group's count is in.
+  double rate = 0, mass_rate = 0, start = 0, every = 0;
 };
 
 struct GroupSpec {
@@ -164,6 +167,16 @@ struct WallSpec {
   }
 };
 
+// Particles whose centre enters the region leave the simulation (checked every `every` s): a box lo..hi,
+// or the half-space behind a plane (the side opposite its normal).
+struct OutletSpec {
+  std::string name;
+  std::string type = "plane"; // plane | box
+  Vec3d point{0, 0, 0}, normal{0, 0, 1};
+  Vec3d lo{0, 0, 0}, hi{0, 0, 0};
+  double every = 0; // 0: the default of the run driver
+};
+
 struct TimeSpec {
   double end = 0;
   double step = 0;         // 0 = auto
@@ -214,6 +227,7 @@ struct Scene {
   std::vector<PairOverrideSpec> pair_overrides;
   std::vector<GroupSpec> groups;
   std::vector<WallSpec> walls;
+  std::vector<OutletSpec> outlets;
   TimeSpec time;
   OutputSpec output;
   StopSpec stop;
@@ -234,6 +248,8 @@ struct ParticleSet {
   std::vector<Vec3d> position, velocity, angular_velocity;
   std::vector<double> radius, density;
   std::vector<int> material, group;
+  // The last `pending` particles are not placed yet: an inlet adds them during the run, in order per group.
+  std::size_t pending = 0;
   std::size_t size() const { return id.size(); }
 };
 

@@ -18,6 +18,7 @@
 #include "drivers/cli.hpp"
 #include "drivers/engine_setup.hpp"
 #include "drivers/resolution_check.hpp"
+#include "drivers/inlets_outlets.hpp"
 #include "drivers/particle_generation.hpp"
 #include "drivers/preflight.hpp"
 #include "drivers/scene_parser.hpp"
@@ -186,9 +187,11 @@ int run_command(const std::vector<std::string>& args) {
   std::unique_ptr<Engine> engine;
   CheckpointData restart;
   std::vector<std::unique_ptr<Analysis>> analyses; // the scene's analyses: outputs go into each series row
+  std::unique_ptr<ParticleExchange> exchange;      // inlets and outlets
   try {
     p = prepare(o);
     analyses = make_analyses(p.scene);
+    exchange = std::make_unique<ParticleExchange>(p.scene, p.particles, p.dt.step);
     // Host copies of the particles cost ~100 B per particle each: the scene's set is in p.config by now,
     // and p.config's is on the device once the engine exists.
     p.particles = ParticleSet{};
@@ -198,6 +201,7 @@ int run_command(const std::vector<std::string>& args) {
       restart = read_checkpoint(o.restart);
       try {
         engine->restore(restart);
+        exchange->load(restart);
       } catch (const std::runtime_error& e) {
         throw std::runtime_error("cannot restart from '" + o.restart + "': " + e.what());
       }
@@ -259,6 +263,7 @@ int run_command(const std::vector<std::string>& args) {
     escapes.check(frame);
     SeriesRow row = series_row(obs);
     run_analyses(analyses, AnalysisInput{frame, obs.time, info.wall_names, obs.wall_force}, row.analyses);
+    exchange->record(row.analyses, engine->size());
     try {
       writer.write_frame(std::move(frame));
       writer.write_series(std::move(row));
@@ -270,7 +275,9 @@ int run_command(const std::vector<std::string>& args) {
   const std::string checkpoint_path = checkpoint_path_for(out);
   auto checkpoint = [&]() {
     try {
-      write_checkpoint(checkpoint_path, engine->checkpoint());
+      CheckpointData c = engine->checkpoint();
+      exchange->save(c);
+      write_checkpoint(checkpoint_path, c);
     } catch (const std::runtime_error& e) {
       throw OutputFailure(e.what());
     }
@@ -288,7 +295,9 @@ int run_command(const std::vector<std::string>& args) {
     std::string saved;
     if (checkpoint_every > 0 && what.find(checkpoint_path) == std::string::npos) {
       try {
-        write_checkpoint(checkpoint_path, engine->checkpoint());
+        CheckpointData c = engine->checkpoint();
+        exchange->save(c);
+        write_checkpoint(checkpoint_path, c);
         saved = "; checkpoint of step " + std::to_string(engine->step()) + " in " + checkpoint_path;
       } catch (const std::exception& e) {
         saved = "; the checkpoint failed too: " + std::string(e.what());
@@ -311,6 +320,8 @@ int run_command(const std::vector<std::string>& args) {
   const auto start = clock::now();
   auto last_progress = start;
   const long first_step = engine->step();
+  long last_step = first_step;
+  double particle_steps = 0; // done so far (the count changes with inlets and outlets)
   bool stopped_early = false;
   const bool interactive = isatty(fileno(stderr));
   try {
@@ -318,10 +329,16 @@ int run_command(const std::vector<std::string>& args) {
       long next = std::min(end_step, (engine->step() / frame_every + 1) * frame_every);
       if (checkpoint_every > 0)
         next = std::min(next, (engine->step() / checkpoint_every + 1) * checkpoint_every);
+      const long exchange_every = exchange->every_steps();
+      if (exchange->active()) next = std::min(next, (engine->step() / exchange_every + 1) * exchange_every);
       // Progress at most every ~second even between frames: advance in slices.
-      const long slice = std::max(1L, std::min(next - engine->step(), 2000000L / std::max(1, n) + 1));
+      const long slice =
+          std::max(1L, std::min(next - engine->step(), 2000000L / std::max(1, engine->size()) + 1));
       engine->advance(std::min(slice, next - engine->step()));
       const long s = engine->step();
+      particle_steps += double(s - last_step) * engine->size();
+      last_step = s;
+      if (exchange->active() && s % exchange_every == 0) exchange->apply(*engine);
       if (s % frame_every == 0 || s == end_step) {
         const Observables obs = emit();
         if (p.scene.stop.kinetic_energy_below > 0 && obs.time >= p.scene.stop.min_time &&
@@ -339,8 +356,8 @@ int run_command(const std::vector<std::string>& args) {
           std::chrono::duration<double>(now - last_progress).count() > (interactive ? 1.0 : 10.0)) {
         last_progress = now;
         const double wall = std::chrono::duration<double>(now - start).count();
-        const double rate = double(s - first_step) * n / wall;
-        const double eta = double(end_step - s) * n / rate;
+        const double rate = particle_steps / wall;
+        const double eta = double(end_step - s) * std::max(1, engine->size()) / rate;
         std::fprintf(stderr, "%s  t = %.4g / %.4g s  step %ld / %ld  %.3g particle-steps/s  ETA %s   %s",
                      interactive ? "\r" : "", s * dt, p.scene.time.end, s, end_step, rate,
                      human_duration(eta).c_str(), interactive ? "" : "\n");
@@ -375,13 +392,14 @@ int run_command(const std::vector<std::string>& args) {
       "(%ld list builds)\n"
       "  final: t = %.4g s, kinetic energy %.4g J, %ld contacts\n"
       "  wrote %s (%lld frames) and %s\n",
-      stopped_early ? " (stop condition)" : "", steps, n, human_duration(wall).c_str(),
-      steps * double(n) / wall, 100 * t.forces / timed, 100 * t.neighbor_list / timed,
-      100 * t.binning / timed, 100 * t.integrate / timed, t.list_builds, last.time, last.kinetic_energy,
-      last.contacts, writer.path().c_str(), static_cast<long long>(writer.frames_written()),
-      writer.xdmf_path().c_str());
+      stopped_early ? " (stop condition)" : "", steps, engine->size(), human_duration(wall).c_str(),
+      particle_steps / wall, 100 * t.forces / timed, 100 * t.neighbor_list / timed, 100 * t.binning / timed,
+      100 * t.integrate / timed, t.list_builds, last.time, last.kinetic_energy, last.contacts,
+      writer.path().c_str(), static_cast<long long>(writer.frames_written()), writer.xdmf_path().c_str());
   if (escapes.outside_now() > 0)
     std::fprintf(stderr, "  %ld particle(s) outside the domain in the last frame\n", escapes.outside_now());
+  for (const std::string& line : exchange->shortfalls(last.time))
+    std::fprintf(stderr, "%s\n", line.c_str());
   return 0;
 }
 

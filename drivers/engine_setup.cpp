@@ -31,15 +31,29 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
                                 const TimeStepEstimate& dt) {
   EngineConfig c;
   c.particles = particles;
+  // Particles an inlet adds later (the set's pending tail) are not in the engine at the start.
+  const std::size_t placed = particles.size() - particles.pending;
+  c.resizable = !scene.outlets.empty() || particles.pending > 0;
+  if (particles.pending > 0) {
+    auto cut = [placed](auto& v) { v.resize(placed); };
+    ParticleSet& q = c.particles;
+    cut(q.id), cut(q.position), cut(q.velocity), cut(q.angular_velocity), cut(q.radius), cut(q.density);
+    cut(q.material), cut(q.group);
+    q.pending = 0;
+  }
   // Coarse-graining (core/scaling.hpp): pair tables over material slots (material, factor), parameter
   // laws applied per pair with the pair factor; particles use their group's slot, walls the factor-1 slots.
   check_scaling(scene);
   ScaledTables tables = scaled_tables(scene);
-  c.scale_factor.resize(particles.size(), 1.0);
-  for (std::size_t i = 0; i < particles.size(); ++i) {
+  c.scale_factor.resize(placed, 1.0);
+  for (std::size_t i = 0; i < placed; ++i) {
     const int g = particles.group[i];
     c.scale_factor[i] = group_scale_factor(scene.groups[g]);
     c.particles.material[i] = tables.slot_of_group[g];
+  }
+  for (std::size_t g = 0; g < scene.groups.size(); ++g) {
+    c.group_slot.push_back(tables.slot_of_group[g]);
+    c.group_scale.push_back(group_scale_factor(scene.groups[g]));
   }
   c.num_materials = static_cast<int>(tables.slots.size());
   c.pair_params = std::move(tables.pair_params);
@@ -51,6 +65,7 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
   double rmax = 0;
   for (double r : particles.radius)
     rmax = std::max(rmax, r);
+  c.max_radius = rmax;
   c.skin = scene.neighbour.skin >= 0 ? scene.neighbour.skin : scene.neighbour.skin_fraction * 2 * rmax;
   c.reorder_every = scene.neighbour.reorder_every;
   c.max_overlap_fraction = scene.stability.max_overlap_fraction;

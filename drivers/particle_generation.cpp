@@ -1,6 +1,7 @@
 // Initial particles from the scene's groups. See drivers/particle_generation.hpp.
 #include "drivers/particle_generation.hpp"
 #include "drivers/preflight.hpp"
+#include "drivers/random.hpp"
 #include "core/crash_probe.hpp"
 
 #include <hdf5.h>
@@ -32,35 +33,6 @@ std::string num_str(double v) {
   os << v;
   return os.str();
 }
-
-// Random numbers from std::mt19937_64 seeded through std::seed_seq (both fully specified by the standard),
-// converted by hand rather than with std::*_distribution so that a seed gives the same particles with any
-// standard library. One stream per purpose so that, e.g., changing velocity_random keeps the positions.
-class Rng {
-public:
-  enum Stream : std::uint32_t { radius = 1, position = 2, velocity = 3 };
-  Rng(std::uint64_t seed, Stream stream) {
-    std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
-                      static_cast<std::uint32_t>(stream), 0x63676465u /* "cgde" */};
-    eng_.seed(seq);
-  }
-  double uniform() { return static_cast<double>(eng_() >> 11) * (1.0 / 9007199254740992.0); } // [0, 1)
-  double uniform(double a, double b) { return a + (b - a) * uniform(); }
-  double normal() {                    // Box-Muller, one value per call
-    const double u1 = 1.0 - uniform(); // (0, 1]
-    const double u2 = uniform();
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * kPi * u2);
-  }
-  Vec3d unit_vector() {
-    const double z = uniform(-1.0, 1.0);
-    const double phi = uniform(0.0, 2.0 * kPi);
-    const double s = std::sqrt(std::max(0.0, 1.0 - z * z));
-    return {s * std::cos(phi), s * std::sin(phi), z};
-  }
-
-private:
-  std::mt19937_64 eng_;
-};
 
 [[noreturn]] void group_fail(const GroupSpec& g, std::size_t gi, const std::string& sub,
                              const std::string& what, const std::string& fix) {
@@ -646,6 +618,15 @@ ParticleSet generate_particles(const Scene& scene) {
       add_to_grid(gp[gi]);
     } else if (kind == "random_box" || kind == "random_cylinder") {
       place_random(g, gi, radii[gi], grid, placed, gp[gi]);
+    } else if (kind == "inlet") {
+      // Placed during the run (drivers/inlets_outlets.cpp); held at the inlet box's centre until then.
+      const Vec3d centre{0.5 * (g.placement.lo[0] + g.placement.hi[0]),
+                         0.5 * (g.placement.lo[1] + g.placement.hi[1]),
+                         0.5 * (g.placement.lo[2] + g.placement.hi[2])};
+      gp[gi].radius = radii[gi];
+      gp[gi].position.assign(radii[gi].size(), centre);
+      gp[gi].density.assign(radii[gi].size(), -1.0);
+      gp[gi].id.assign(radii[gi].size(), -1);
     } else {
       group_fail(g, gi, "placement.type", "unknown placement type '" + kind + "'",
                  "use lattice, random_box, random_cylinder or file");
@@ -666,8 +647,14 @@ ParticleSet generate_particles(const Scene& scene) {
       next_id = std::max(next_id, id + 1);
     }
   ParticleSet ps;
-  for (std::size_t gi = 0; gi < ng; ++gi) {
+  // Placed groups first, then the inlets' particles (the set's pending tail, in insertion order).
+  std::vector<std::size_t> order;
+  for (int pass = 0; pass < 2; ++pass)
+    for (std::size_t gi = 0; gi < ng; ++gi)
+      if ((scene.groups[gi].placement.kind == "inlet") == (pass == 1)) order.push_back(gi);
+  for (std::size_t gi : order) {
     const GroupSpec& g = scene.groups[gi];
+    if (g.placement.kind == "inlet") ps.pending += gp[gi].position.size();
     const int mat = scene.material_index(g.material);
     const double rho_mat = scene.materials[static_cast<std::size_t>(mat)].density;
     GroupParticles& p = gp[gi];
@@ -690,12 +677,12 @@ ParticleSet generate_particles(const Scene& scene) {
 }
 
 void check_particles(const Scene& scene, const ParticleSet& ps) {
-  const std::size_t n = ps.size();
   const std::string src = scene.source_file.empty() ? "<scene>" : scene.source_file;
-  if (ps.position.size() != n || ps.radius.size() != n)
+  if (ps.position.size() != ps.size() || ps.radius.size() != ps.size() || ps.pending > ps.size())
     throw SceneError(scene_error_message(src, "particles",
                                          "the particle set is inconsistent (ids, positions, radii)",
                                          "this is a bug in the particle source; report it"));
+  const std::size_t n = ps.size() - ps.pending; // the inlets' particles are checked as they enter
   const DomainSpec& d = scene.domain;
   double rmax = 0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -793,7 +780,7 @@ namespace cgdem {
 // smaller radius. Walls are not considered.
 RelaxReport relax_overlaps(const Scene& scene, ParticleSet& ps) {
   RelaxReport report;
-  const std::size_t n = ps.size();
+  const std::size_t n = ps.size() - ps.pending;
   if (n == 0) return report;
   const DomainSpec& d = scene.domain;
   double rmax = 0;

@@ -50,7 +50,8 @@ const std::vector<std::string> kCoarseLaws = {
     "none",       "chen_elliott", "bond",       "cohesion", "thakur", "thakur_f0_linear", "thakur_f0_cubic",
     "hu_method1", "hu_method2",   "hu_method3", "sakai"};
 const std::vector<std::string> kDistributions = {"mono", "uniform", "normal", "lognormal"};
-const std::vector<std::string> kPlacements = {"lattice", "random_box", "random_cylinder", "file"};
+const std::vector<std::string> kPlacements = {"lattice", "random_box", "random_cylinder", "file", "inlet"};
+const std::vector<std::string> kOutletTypes = {"plane", "box"};
 const std::vector<std::string> kWallTypes = {"plane", "cylinder", "cone"};
 const std::vector<std::string> kOutputFields = {"position", "velocity", "angular_velocity", "radius", "mass",
                                                 "group",    "id"};
@@ -575,7 +576,9 @@ struct Parser {
   }
 
   void parse_placement(const Field& f, GroupSpec& g, std::size_t index) {
-    MapView m(ctx, f, {"type", "lo", "hi", "center", "axis", "radius", "height", "spacing", "seed", "file"},
+    MapView m(ctx, f,
+              {"type", "lo", "hi", "center", "axis", "radius", "height", "spacing", "seed", "file", "rate",
+               "mass_rate", "start", "every"},
               "write placement: {type: random_box, lo: [..], hi: [..]}");
     PlacementSpec& p = g.placement;
     p.kind = as_choice(ctx, m.require("type", "give type: " + join(kPlacements, " | ")), kPlacements,
@@ -585,6 +588,7 @@ struct Parser {
     if (p.kind == "random_box") allowed = {"type", "lo", "hi", "seed"};
     if (p.kind == "random_cylinder") allowed = {"type", "center", "axis", "radius", "height", "seed"};
     if (p.kind == "file") allowed = {"type", "file", "seed"};
+    if (p.kind == "inlet") allowed = {"type", "lo", "hi", "seed", "rate", "mass_rate", "start", "every"};
     for (const auto& k : m.keys())
       if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
         ctx.fail(m.sub(k), m.get(k).mark, "key '" + k + "' does not apply to placement type " + p.kind,
@@ -595,7 +599,7 @@ struct Parser {
       check(ctx, s >= 0, m.get("seed"), "seed must be >= 0", "give a non-negative integer seed");
       p.seed = static_cast<std::uint64_t>(s);
     }
-    if (p.kind == "lattice" || p.kind == "random_box") {
+    if (p.kind == "lattice" || p.kind == "random_box" || p.kind == "inlet") {
       p.lo = scene.domain.lo;
       p.hi = scene.domain.hi;
       opt_vec3(ctx, m, "lo", p.lo);
@@ -641,6 +645,21 @@ struct Parser {
       }
       check_box_in_domain(rf, lo, hi, "the placement cylinder");
     }
+    if (p.kind == "inlet") {
+      if (m.has("rate") == m.has("mass_rate"))
+        ctx.fail(f.path, f.mark,
+                 m.has("rate") ? "both rate and mass_rate are given" : "the inlet has no rate",
+                 "give rate (particles/s) or mass_rate (kg/s), one of them");
+      const char* key = m.has("rate") ? "rate" : "mass_rate";
+      double& v = m.has("rate") ? p.rate : p.mass_rate;
+      v = as_num(ctx, m.get(key));
+      check(ctx, v > 0, m.get(key), std::string(key) + " must be > 0 (got " + num_str(v) + ")",
+            m.has("rate") ? "give particles per second" : "give kg per second");
+      opt_num(ctx, m, "start", p.start);
+      non_negative(ctx, m, "start", p.start, "give the time the inlet opens in s, >= 0");
+      opt_num(ctx, m, "every", p.every);
+      positive(ctx, m, "every", p.every, "give the time between insertions in s");
+    }
     if (p.kind == "file") {
       const Field ff =
           m.require("file", "give the particle file (CSV id,x,y,z,radius[,density] or cgdem HDF5)");
@@ -668,8 +687,8 @@ struct Parser {
     g.material =
         material_ref(m.require("material", "name the group's material, one of: " + join(material_names())));
     parse_placement(
-        m.require("placement", "give placement: {type: lattice|random_box|random_cylinder|file, ...}"), g,
-        index);
+        m.require("placement", "give placement: {type: lattice|random_box|random_cylinder|file|inlet, ...}"),
+        g, index);
     const bool from_file = g.placement.kind == "file";
     if (from_file) {
       if (m.has("size"))
@@ -888,6 +907,51 @@ struct Parser {
     }
   }
 
+  void parse_outlets(const Field& f) {
+    if (f.node.IsNull()) return;
+    if (!f.node.IsSequence())
+      ctx.fail(f.path, f.mark, "expected a list of outlets, got " + describe(f.node),
+               "write outlets: as a list of '- name: ...' entries");
+    for (std::size_t i = 0; i < f.node.size(); ++i) {
+      const Field of = item(f, i);
+      MapView m(ctx, of, {"name", "type", "point", "normal", "lo", "hi", "every"});
+      OutletSpec o;
+      o.name = m.has("name") ? as_str(ctx, m.get("name")) : "outlet" + std::to_string(i);
+      for (const auto& other : scene.outlets)
+        check(ctx, other.name != o.name, m.has("name") ? m.get("name") : of,
+              "outlet name '" + o.name + "' is used twice", "give every outlet its own name");
+      check(ctx, o.name.find('/') == std::string::npos, m.get("name"), "outlet name contains '/'",
+            "use letters, digits and '_'");
+      if (m.has("type")) o.type = as_choice(ctx, m.get("type"), kOutletTypes, "outlet type");
+      const std::vector<std::string> allowed =
+          o.type == "plane" ? std::vector<std::string>{"name", "type", "point", "normal", "every"}
+                            : std::vector<std::string>{"name", "type", "lo", "hi", "every"};
+      for (const auto& k : m.keys())
+        if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
+          ctx.fail(m.sub(k), m.get(k).mark, "key '" + k + "' does not apply to a " + o.type + " outlet",
+                   "remove it (keys for a " + o.type + " outlet: " + join(allowed) + ")");
+      if (o.type == "plane") {
+        o.point = as_vec3(ctx, m.require("point", "give a point on the outlet plane, e.g. [0, 0, 0]"));
+        o.normal = as_vec3(ctx, m.require("normal", "give the normal pointing to the particles kept"));
+        const double n = norm(o.normal);
+        check(ctx, n > 0, m.get("normal"), "normal is the zero vector", "give a direction, e.g. [0, 0, 1]");
+        for (double& c : o.normal)
+          c /= n;
+      } else {
+        o.lo = as_vec3(ctx, m.require("lo", "give the box's lower corner"));
+        o.hi = as_vec3(ctx, m.require("hi", "give the box's upper corner"));
+        for (int a = 0; a < 3; ++a)
+          check(ctx, o.hi[a] > o.lo[a], m.get("hi"),
+                std::string("outlet hi ") + kAxis[a] + " = " + num_str(o.hi[a]) + " is not above lo " +
+                    kAxis[a] + " = " + num_str(o.lo[a]),
+                "make every component of hi larger than lo");
+      }
+      opt_num(ctx, m, "every", o.every);
+      positive(ctx, m, "every", o.every, "give the time between outlet checks in s");
+      scene.outlets.push_back(o);
+    }
+  }
+
   void parse_time(const Field& f) {
     MapView m(ctx, f, {"end", "step", "fraction", "force_step", "resolve_adhesion"});
     TimeSpec& t = scene.time;
@@ -1075,8 +1139,8 @@ struct Parser {
                "the scene is not a map of keys (got " + describe(root) + ")",
                "start from an example in scenes/");
     MapView m(ctx, rf,
-              {"description", "domain", "gravity", "materials", "contact", "pairs", "groups", "walls", "time",
-               "output", "stop", "neighbour", "stability", "analyses"});
+              {"description", "domain", "gravity", "materials", "contact", "pairs", "groups", "walls",
+               "outlets", "time", "output", "stop", "neighbour", "stability", "analyses"});
     if (m.has("description")) as_str(ctx, m.get("description"));
     parse_domain(m.require("domain", "give domain: {lo: [x, y, z], hi: [x, y, z]} in m"));
     opt_vec3(ctx, m, "gravity", scene.gravity);
@@ -1086,6 +1150,7 @@ struct Parser {
     if (m.has("pairs")) parse_pairs(m.get("pairs"));
     parse_groups(m.require("groups", "give a list of particle groups"));
     if (m.has("walls")) parse_walls(m.get("walls"));
+    if (m.has("outlets")) parse_outlets(m.get("outlets"));
     parse_time(m.require("time", "give time: {end: <s>}"));
     if (m.has("output")) parse_output(m.get("output"));
     if (m.has("stop")) parse_stop(m.get("stop"));

@@ -2,6 +2,7 @@
 // The engine as the drivers see it: one abstract host interface over Simulation<Law, ExecSpace>, so a
 // run-time choice (scene YAML, --backend) picks one of a closed list of compiled instantiations
 // (drivers/physics_registry.cpp). Virtual calls happen once per batch of steps on the host only.
+#include <cstdint>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -23,8 +24,8 @@ struct Observables {
   double momentum[3] = {0, 0, 0};
   long contacts = 0;
   double max_speed = 0;
-  double max_overlap_fraction = 0;  // largest overlap / smaller radius
-  std::vector<double> wall_force;   // 3 per named wall
+  double max_overlap_fraction = 0; // largest overlap / smaller radius
+  std::vector<double> wall_force;  // 3 per named wall
 };
 
 // Thrown when the state stops being physical; what() is the diagnosis (step, particle, neighbours, cause).
@@ -33,7 +34,7 @@ struct BlowUpError : std::runtime_error {
 };
 
 class Engine {
- public:
+public:
   virtual ~Engine() = default;
   // Advance `steps` time steps; throws BlowUpError on a NaN/Inf state or an overlap beyond the limit.
   virtual void advance(long steps) = 0;
@@ -42,12 +43,18 @@ class Engine {
   virtual void rebuild_neighbors() = 0;
   virtual FrameData frame() = 0;
   virtual CheckpointData checkpoint() = 0;
+  // Restore a checkpoint; one holding a different particle count is accepted only when `resizable`
+  // (a scene with inlets or outlets).
   virtual void restore(const CheckpointData&) = 0;
+  // Remove the particles with the given ids and add `add` (ids new, group and density set; its velocities
+  // and positions at the current time), keeping every other particle's state and contact history. Forces
+  // on the added particles start at zero; those of the kept ones keep the last evaluation.
+  virtual void exchange(const std::vector<std::int64_t>& remove_ids, const ParticleSet& add) = 0;
   virtual double time() const = 0;
   virtual long step() const = 0;
   virtual int size() const = 0;
   virtual StepTimers timers() const = 0;
-  virtual std::size_t bytes() const = 0;  // device memory held by the store and the lists
+  virtual std::size_t bytes() const = 0; // device memory held by the store and the lists
   virtual std::string physics() const = 0;
   virtual std::string backend() const = 0;
 };

@@ -33,7 +33,7 @@ public:
     upload_particles();
     cfg_.particles = ParticleSet{}; // on the device now; the host copy would only cost ~100 B per particle
     upload_tables();
-    Real rmax = 0;
+    Real rmax = cfg.max_radius; // particles an inlet adds later included
     for (double r : cfg.particles.radius)
       rmax = std::max<Real>(rmax, r);
     max_radius_ = rmax;
@@ -53,14 +53,7 @@ public:
             << 2 * rmax + cutoff_extra_ << " m: enlarge the domain along it or reduce the skin";
         throw std::invalid_argument(msg.str());
       }
-    identity_ = Kokkos::View<int*, Mem>("cgdem::kernels::identity", n_);
-    old_index_ = Kokkos::View<int*, Mem>("cgdem::kernels::old_index", n_);
-    auto id = identity_;
-    Kokkos::parallel_for(
-        "cgdem::kernels::iota", Kokkos::RangePolicy<ExecSpace>(0, n_), KOKKOS_LAMBDA(int i) { id(i) = i; });
-    if (!cfg_.walls.empty())
-      wall_force_record_ = Kokkos::View<Real* [3], Mem>("cgdem::kernels::wall_force_record",
-                                                        std::size_t(n_) * cfg_.walls.size());
+    allocate_per_particle_scratch();
     rebuild(true);
     compute_forces(true);
   }
@@ -124,6 +117,7 @@ public:
   FrameData frame() override;
   CheckpointData checkpoint() override;
   void restore(const CheckpointData& c) override;
+  void exchange(const std::vector<std::int64_t>& remove_ids, const ParticleSet& add) override;
 
   double time() const override { return time_; }
   long step() const override { return step_; }
@@ -141,6 +135,7 @@ public:
 private:
   void upload_particles();
   void upload_tables();
+  void allocate_per_particle_scratch(); // everything sized by n_ beside the store and the list
   void rebuild(bool first);
   void compute_forces(bool record_wall_forces, bool cleared = false);
   Real max_overlap_fraction();

@@ -1,5 +1,6 @@
 #pragma once
 // Out-of-line members of Simulation (host orchestration; the kernels live in their own headers).
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -67,11 +68,23 @@ void Simulation<Law, ExecSpace>::upload_tables() {
   Kokkos::deep_copy(walls_, hwalls);
   placed_walls_ = Kokkos::View<PlacedWall*, Mem>("cgdem::kernels::placed_walls", cfg_.walls.size());
   placed_walls_host_ = Kokkos::create_mirror_view(placed_walls_);
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::allocate_per_particle_scratch() {
   wall_history_ = HistoryView("cgdem::kernels::wall_history", n_, cfg_.walls.size() * H);
   const std::size_t scratch_bytes = reorder_scratch_bytes(cfg_.walls.size() * H * sizeof(ForceReal));
   reorder_scratch_ =
       Kokkos::View<double*, Mem>("cgdem::kernels::reorder_scratch",
                                  std::size_t(n_) * ((scratch_bytes + sizeof(double) - 1) / sizeof(double)));
+  identity_ = Kokkos::View<int*, Mem>("cgdem::kernels::identity", n_);
+  old_index_ = Kokkos::View<int*, Mem>("cgdem::kernels::old_index", n_);
+  auto id = identity_;
+  Kokkos::parallel_for(
+      "cgdem::kernels::iota", Kokkos::RangePolicy<ExecSpace>(0, n_), KOKKOS_LAMBDA(int i) { id(i) = i; });
+  if (!cfg_.walls.empty())
+    wall_force_record_ = Kokkos::View<Real* [3], Mem>("cgdem::kernels::wall_force_record",
+                                                      std::size_t(n_) * cfg_.walls.size());
 }
 
 template <class Law, class ExecSpace>
@@ -358,9 +371,15 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
     if (it == map.end()) throw std::runtime_error(std::string("checkpoint lacks field '") + key + "'");
     return it->second;
   };
-  if (need(c.ints, "id").size() != std::size_t(n_))
-    throw std::runtime_error("checkpoint holds " + std::to_string(need(c.ints, "id").size()) +
-                             " particles but the scene has " + std::to_string(n_));
+  const std::size_t count = need(c.ints, "id").size();
+  if (count != std::size_t(n_)) {
+    if (!cfg_.resizable)
+      throw std::runtime_error("checkpoint holds " + std::to_string(count) + " particles but the scene has " +
+                               std::to_string(n_));
+    n_ = static_cast<int>(count);
+    store_ = ParticleStore<Mem>(n_);
+    allocate_per_particle_scratch();
+  }
   if (static_cast<int>(need(c.scalars, "history_size")) != H)
     throw std::runtime_error("checkpoint was written by a different contact law (history size differs)");
   detail::from_vector(store_.id, need(c.ints, "id"), "id");
@@ -375,7 +394,7 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   detail::from_vector(store_.torque, need(c.reals, "torque"), "torque");
   detail::from_vector(store_.position_at_build, need(c.reals, "position_at_build"), "position_at_build");
   detail::from_vector(store_.radius, need(c.reals, "radius"), "radius");
-  max_radius_ = 0;
+  max_radius_ = cfg_.max_radius;
   for (double r : need(c.reals, "radius"))
     max_radius_ = std::max<Real>(max_radius_, r);
   detail::from_vector(store_.mass, need(c.reals, "mass"), "mass");
@@ -412,6 +431,90 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   builds_ = static_cast<long>(need(c.scalars, "builds"));
   step_ = c.step;
   time_ = c.time;
+}
+
+// Host-side edit of the full state, then the ordinary restore and a list build: removed particles leave
+// with their pair and wall history, kept particles keep theirs (the compacted list carries it into the
+// build), and added particles join the list at the build. Costs a state round trip through the host, so
+// drivers call it every few hundred steps, not every step.
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::exchange(const std::vector<std::int64_t>& remove_ids,
+                                          const ParticleSet& add) {
+  if (remove_ids.empty() && add.size() == 0) return;
+  CheckpointData c = checkpoint();
+  const std::vector<std::int64_t> ids = c.ints.at("id");
+  const std::size_t n_old = ids.size(), parts = cfg_.walls.size();
+  std::vector<std::int64_t> gone(remove_ids);
+  std::sort(gone.begin(), gone.end());
+  std::vector<int> new_index(n_old, -1);
+  int kept = 0;
+  for (std::size_t i = 0; i < n_old; ++i)
+    if (!std::binary_search(gone.begin(), gone.end(), ids[i])) new_index[i] = kept++;
+  const std::size_t n_new = std::size_t(kept) + add.size();
+  // Rows of `width` values per particle: keep the kept ones' rows in order, append zero rows.
+  auto compact = [&](auto& values, std::size_t width) {
+    using T = typename std::decay_t<decltype(values)>::value_type;
+    std::vector<T> out;
+    out.reserve(n_new * width);
+    for (std::size_t i = 0; i < n_old; ++i)
+      if (new_index[i] >= 0)
+        out.insert(out.end(), values.begin() + i * width, values.begin() + (i + 1) * width);
+    out.resize(n_new * width, T(0));
+    values = std::move(out);
+  };
+  for (const char* key : {"id", "material", "group", "contacts", "wall_contacts"})
+    compact(c.ints.at(key), 1);
+  for (const char* key : {"position", "velocity", "angular_velocity", "force", "torque", "position_at_build"})
+    compact(c.reals.at(key), 3);
+  for (const char* key : {"radius", "mass", "inertia", "scale_factor"})
+    compact(c.reals.at(key), 1);
+  compact(c.reals.at("wall_history"), parts * H);
+  if (parts > 0) compact(c.reals.at("wall_force_record"), parts * 3);
+  // The added particles' own fields.
+  for (std::size_t k = 0; k < add.size(); ++k) {
+    const std::size_t i = std::size_t(kept) + k;
+    const int g = add.group[k];
+    const double r = add.radius[k], m = add.density[k] * 4.0 / 3.0 * math::pi * r * r * r;
+    const Vec3 x = cfg_.domain.wrap(Vec3{add.position[k][0], add.position[k][1], add.position[k][2]});
+    c.ints["id"][i] = add.id[k];
+    c.ints["material"][i] = cfg_.group_slot.at(std::size_t(g));
+    c.ints["group"][i] = g;
+    for (int a = 0; a < 3; ++a) {
+      c.reals["position"][3 * i + a] = x[a];
+      c.reals["position_at_build"][3 * i + a] = x[a];
+      c.reals["velocity"][3 * i + a] = add.velocity[k][a];
+      c.reals["angular_velocity"][3 * i + a] = add.angular_velocity[k][a];
+    }
+    c.reals["radius"][i] = r;
+    c.reals["mass"][i] = m;
+    c.reals["inertia"][i] = 0.4 * m * r * r;
+    c.reals["scale_factor"][i] = cfg_.group_scale.at(std::size_t(g));
+  }
+  // The neighbour list without the removed particles (partners renumbered, order kept: a pair stays under
+  // its lower index); the added particles have no slots until the build below.
+  const std::vector<std::int64_t> offs = c.ints.at("nl_offsets"), neigh = c.ints.at("nl_neighbors");
+  const std::vector<double> hist = c.reals.at("nl_history");
+  std::vector<std::int64_t> new_offs{0}, new_neigh;
+  std::vector<double> new_hist;
+  for (std::size_t i = 0; i < n_old; ++i) {
+    if (new_index[i] < 0) continue;
+    for (auto s = offs[i]; s < offs[i + 1]; ++s) {
+      const int j = new_index[std::size_t(neigh[std::size_t(s)])];
+      if (j < 0) continue;
+      new_neigh.push_back(j);
+      new_hist.insert(new_hist.end(), hist.begin() + s * H, hist.begin() + (s + 1) * H);
+    }
+    new_offs.push_back(static_cast<std::int64_t>(new_neigh.size()));
+  }
+  new_offs.resize(n_new + 1, new_offs.back());
+  c.ints["nl_offsets"] = std::move(new_offs);
+  c.ints["nl_neighbors"] = std::move(new_neigh);
+  c.reals["nl_history"] = std::move(new_hist);
+  const bool resizable = cfg_.resizable;
+  cfg_.resizable = true;
+  restore(c);
+  cfg_.resizable = resizable;
+  rebuild(false);
 }
 
 } // namespace cgdem::kernels

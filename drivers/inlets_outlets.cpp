@@ -1,0 +1,274 @@
+#include "drivers/inlets_outlets.hpp"
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+#include "drivers/random.hpp"
+
+namespace cgdem {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr int kTriesPerParticle = 60;
+
+double sphere_mass(double density, double r) {
+  return density * 4.0 / 3.0 * kPi * r * r * r;
+}
+
+// Spheres near an inlet box on a hash grid of cells `cell` wide (at least the largest diameter), for the
+// overlap test of a new particle against its 27 surrounding cells.
+class NearbySpheres {
+public:
+  NearbySpheres(const DomainSpec& domain, double cell) : domain_(domain), cell_(cell) {}
+  void add(const Vec3d& x, double r) {
+    spheres_.push_back({x, r});
+    cells_[key(x[0], x[1], x[2])].push_back(static_cast<int>(spheres_.size()) - 1);
+  }
+  bool overlaps(const Vec3d& x, double r) const {
+    const long cx = index(x[0]), cy = index(x[1]), cz = index(x[2]);
+    for (long dz = -1; dz <= 1; ++dz)
+      for (long dy = -1; dy <= 1; ++dy)
+        for (long dx = -1; dx <= 1; ++dx) {
+          const auto it = cells_.find(pack(cx + dx, cy + dy, cz + dz));
+          if (it == cells_.end()) continue;
+          for (int j : it->second) {
+            double d2 = 0;
+            for (int a = 0; a < 3; ++a) {
+              double d = x[a] - spheres_[j].first[a];
+              const double L = domain_.hi[a] - domain_.lo[a];
+              if (domain_.periodic[a]) d -= L * std::round(d / L);
+              d2 += d * d;
+            }
+            const double reach = r + spheres_[j].second;
+            if (d2 < reach * reach) return true;
+          }
+        }
+    return false;
+  }
+
+private:
+  long index(double x) const { return static_cast<long>(std::floor(x / cell_)); }
+  static long pack(long x, long y, long z) { return (x * 73856093L) ^ (y * 19349663L) ^ (z * 83492791L); }
+  long key(double x, double y, double z) const { return pack(index(x), index(y), index(z)); }
+  DomainSpec domain_;
+  double cell_;
+  std::vector<std::pair<Vec3d, double>> spheres_;
+  std::unordered_map<long, std::vector<int>> cells_;
+};
+
+} // namespace
+
+ParticleExchange::ParticleExchange(const Scene& scene, ParticleSet& particles, double dt)
+    : domain_(scene.domain) {
+  double every = 0;
+  auto consider = [&](double e) {
+    if (e > 0) every = every > 0 ? std::min(every, e) : e;
+  };
+  // The pending tail holds the inlet groups' particles group after group, in scene order.
+  const std::size_t first_pending = particles.size() - particles.pending;
+  std::size_t k = first_pending;
+  for (std::size_t g = 0; g < scene.groups.size(); ++g) {
+    const GroupSpec& spec = scene.groups[g];
+    if (spec.placement.kind != "inlet") continue;
+    Inlet in;
+    in.group = spec.name;
+    in.placement = spec.placement;
+    double total = 0;
+    for (; k < particles.size() && particles.group[k] == static_cast<int>(g); ++k) {
+      ParticleSet& q = in.queue;
+      q.id.push_back(particles.id[k]);
+      q.position.push_back(particles.position[k]);
+      q.velocity.push_back(particles.velocity[k]);
+      q.angular_velocity.push_back(particles.angular_velocity[k]);
+      q.radius.push_back(particles.radius[k]);
+      q.density.push_back(particles.density[k]);
+      q.material.push_back(particles.material[k]);
+      q.group.push_back(particles.group[k]);
+      total += sphere_mass(particles.density[k], particles.radius[k]);
+      in.cumulative_mass.push_back(total);
+    }
+    consider(spec.placement.every);
+    inlets_.push_back(std::move(in));
+  }
+  auto cut = [first_pending](auto& v) { v.resize(first_pending); };
+  cut(particles.id), cut(particles.position), cut(particles.velocity), cut(particles.angular_velocity);
+  cut(particles.radius), cut(particles.density), cut(particles.material), cut(particles.group);
+  particles.pending = 0;
+  for (const OutletSpec& o : scene.outlets) {
+    outlets_.push_back(Outlet{o, 0, 0.0});
+    consider(o.every);
+  }
+  every_steps_ = every > 0 ? std::max(1L, std::lround(every / dt)) : 100;
+}
+
+std::size_t ParticleExchange::owed(const Inlet& in, double time) const {
+  const PlacementSpec& p = in.placement;
+  const double open = time - p.start;
+  if (open < 0) return 0;
+  if (p.rate > 0)
+    return std::min(in.queue.size(), static_cast<std::size_t>(std::floor(p.rate * open + 1e-9)));
+  const double due = p.mass_rate * open * (1 + 1e-12);
+  return static_cast<std::size_t>(
+      std::upper_bound(in.cumulative_mass.begin(), in.cumulative_mass.end(), due) -
+      in.cumulative_mass.begin());
+}
+
+ParticleSet ParticleExchange::place(Inlet& in, std::size_t target, const FrameData& frame, long step,
+                                    std::size_t index) {
+  ParticleSet out;
+  const PlacementSpec& p = in.placement;
+  double rmax = 0;
+  for (std::size_t k = in.inserted; k < target; ++k)
+    rmax = std::max(rmax, in.queue.radius[k]);
+  double reach = rmax;
+  for (double r : frame.radius)
+    reach = std::max(reach, r);
+  NearbySpheres near(domain_, 2 * reach);
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    const double* x = &frame.position[3 * i];
+    bool close = true;
+    for (int a = 0; a < 3; ++a)
+      close = close && x[a] > p.lo[a] - 2 * reach && x[a] < p.hi[a] + 2 * reach;
+    if (close) near.add({x[0], x[1], x[2]}, frame.radius[i]);
+  }
+  Rng rng(p.seed, Rng::inlet, static_cast<std::uint64_t>(step) * 64 + index);
+  for (std::size_t k = in.inserted; k < target; ++k) {
+    const double r = in.queue.radius[k];
+    bool placed = false;
+    Vec3d x{};
+    for (int t = 0; t < kTriesPerParticle && !placed; ++t) {
+      for (int a = 0; a < 3; ++a) {
+        const double lo = p.lo[a] + r, hi = p.hi[a] - r;
+        x[a] = lo < hi ? rng.uniform(lo, hi) : 0.5 * (p.lo[a] + p.hi[a]);
+      }
+      placed = !near.overlaps(x, r);
+    }
+    if (!placed) {
+      ++in.blocked;
+      break; // the rest waits for the next exchange, in order
+    }
+    near.add(x, r);
+    out.id.push_back(in.queue.id[k]);
+    out.position.push_back(x);
+    out.velocity.push_back(in.queue.velocity[k]);
+    out.angular_velocity.push_back(in.queue.angular_velocity[k]);
+    out.radius.push_back(r);
+    out.density.push_back(in.queue.density[k]);
+    out.material.push_back(in.queue.material[k]);
+    out.group.push_back(in.queue.group[k]);
+    in.mass += sphere_mass(in.queue.density[k], r);
+    ++in.inserted;
+  }
+  return out;
+}
+
+void ParticleExchange::apply(Engine& engine) {
+  const FrameData frame = engine.frame();
+  std::vector<std::int64_t> gone;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    const double* x = &frame.position[3 * i];
+    for (Outlet& o : outlets_) {
+      bool caught;
+      if (o.spec.type == "plane") {
+        double s = 0;
+        for (int a = 0; a < 3; ++a)
+          s += (x[a] - o.spec.point[a]) * o.spec.normal[a];
+        caught = s < 0;
+      } else {
+        caught = true;
+        for (int a = 0; a < 3; ++a)
+          caught = caught && x[a] >= o.spec.lo[a] && x[a] <= o.spec.hi[a];
+      }
+      if (!caught) continue;
+      gone.push_back(frame.id[i]);
+      ++o.count;
+      o.mass += frame.mass[i];
+      break; // counted by the first outlet that holds it
+    }
+  }
+  ParticleSet add;
+  for (std::size_t n = 0; n < inlets_.size(); ++n) {
+    Inlet& in = inlets_[n];
+    const std::size_t target = owed(in, engine.time());
+    if (target <= in.inserted) continue;
+    const ParticleSet more = place(in, target, frame, engine.step(), n);
+    for (std::size_t k = 0; k < more.size(); ++k) {
+      add.id.push_back(more.id[k]);
+      add.position.push_back(more.position[k]);
+      add.velocity.push_back(more.velocity[k]);
+      add.angular_velocity.push_back(more.angular_velocity[k]);
+      add.radius.push_back(more.radius[k]);
+      add.density.push_back(more.density[k]);
+      add.material.push_back(more.material[k]);
+      add.group.push_back(more.group[k]);
+    }
+  }
+  engine.exchange(gone, add);
+}
+
+void ParticleExchange::record(std::map<std::string, double>& columns, long particles) const {
+  if (!active()) return;
+  columns["particles"] = static_cast<double>(particles);
+  for (const Inlet& in : inlets_) {
+    columns["inlet_" + in.group + "_count"] = static_cast<double>(in.inserted);
+    columns["inlet_" + in.group + "_mass"] = in.mass;
+  }
+  for (const Outlet& o : outlets_) {
+    columns["outlet_" + o.spec.name + "_count"] = static_cast<double>(o.count);
+    columns["outlet_" + o.spec.name + "_mass"] = o.mass;
+  }
+}
+
+std::vector<std::string> ParticleExchange::shortfalls(double time) const {
+  std::vector<std::string> out;
+  for (const Inlet& in : inlets_) {
+    const std::size_t due = owed(in, time);
+    if (in.inserted >= due || in.blocked == 0) continue;
+    char line[320];
+    std::snprintf(
+        line, sizeof line,
+        "warning: inlet of group '%s' placed %zu of the %zu particles due by t = %.4g s: its box was "
+        "full at %ld insertions; enlarge the box, lower the rate or give the particles a velocity "
+        "away from it",
+        in.group.c_str(), in.inserted, due, time, in.blocked);
+    out.emplace_back(line);
+  }
+  return out;
+}
+
+void ParticleExchange::save(CheckpointData& c) const {
+  for (const Inlet& in : inlets_) {
+    c.scalars["inlet_" + in.group + "_inserted"] = static_cast<double>(in.inserted);
+    c.scalars["inlet_" + in.group + "_mass"] = in.mass;
+    c.scalars["inlet_" + in.group + "_blocked"] = static_cast<double>(in.blocked);
+  }
+  for (const Outlet& o : outlets_) {
+    c.scalars["outlet_" + o.spec.name + "_count"] = static_cast<double>(o.count);
+    c.scalars["outlet_" + o.spec.name + "_mass"] = o.mass;
+  }
+}
+
+void ParticleExchange::load(const CheckpointData& c) {
+  auto get = [&](const std::string& key) {
+    const auto it = c.scalars.find(key);
+    if (it == c.scalars.end())
+      throw std::runtime_error("checkpoint lacks '" + key +
+                               "' (written by a scene without this inlet/outlet)");
+    return it->second;
+  };
+  for (Inlet& in : inlets_) {
+    const double inserted = get("inlet_" + in.group + "_inserted");
+    if (!(inserted >= 0 && inserted <= static_cast<double>(in.queue.size())))
+      throw std::runtime_error("checkpoint's inlet count for group '" + in.group + "' is out of range");
+    in.inserted = static_cast<std::size_t>(inserted);
+    in.mass = get("inlet_" + in.group + "_mass");
+    in.blocked = static_cast<long>(get("inlet_" + in.group + "_blocked"));
+  }
+  for (Outlet& o : outlets_) {
+    o.count = static_cast<long>(get("outlet_" + o.spec.name + "_count"));
+    o.mass = get("outlet_" + o.spec.name + "_mass");
+  }
+}
+
+} // namespace cgdem
