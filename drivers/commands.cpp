@@ -251,9 +251,11 @@ int run_command(const std::vector<std::string>& args) {
   ResultWriter& writer = *writer_ptr;
 
   const int n = engine->size();
-  std::fprintf(stderr, "cgdem %s: %s, %d particles, %s on %s (%d threads), dt = %.4g s (%s)\n", CGDEM_VERSION,
-               o.scene.c_str(), n, engine->physics().c_str(), backend.c_str(), info.threads, dt,
-               p.dt.reason.c_str());
+  const std::string inlet_note =
+      exchange->waiting() > 0 ? " (+" + std::to_string(exchange->waiting()) + " to come from inlets)" : "";
+  std::fprintf(stderr, "cgdem %s: %s, %d particles%s, %s on %s (%d threads), dt = %.4g s (%s)\n",
+               CGDEM_VERSION, o.scene.c_str(), n, inlet_note.c_str(), engine->physics().c_str(),
+               backend.c_str(), info.threads, dt, p.dt.reason.c_str());
   for (const std::string& w : resolution_warnings(p.scene))
     std::fprintf(stderr, "%s\n", w.c_str());
   EscapeWatch escapes(p.scene.domain);
@@ -479,7 +481,16 @@ int check_command(const std::vector<std::string>& args) {
                 p.dt.rayleigh_time, p.dt.contact_time, p.dt.contact_time / p.dt.step);
     std::printf("end time     %.4g s = %.0f steps\n", p.scene.time.end,
                 std::ceil(p.scene.time.end / p.dt.step));
-    std::printf("particles    %zu\n", p.particles.size());
+    std::size_t from_inlets = 0;
+    for (std::size_t g = 0; g < p.scene.groups.size(); ++g)
+      if (p.scene.groups[g].placement.kind == "inlet")
+        for (int gi : p.particles.group)
+          from_inlets += gi == static_cast<int>(g);
+    std::printf("particles    %zu", p.particles.size());
+    if (from_inlets > 0)
+      std::printf(" (%zu placed at the start, %zu from inlets during the run)",
+                  p.particles.size() - from_inlets, from_inlets);
+    std::printf("\n");
     for (std::size_t g = 0; g < p.scene.groups.size(); ++g) {
       std::size_t count = 0;
       for (int gi : p.particles.group)
@@ -498,10 +509,15 @@ int check_command(const std::vector<std::string>& args) {
       const auto engine = make_engine(p.config, default_backend());
       const double n = std::max(1.0, static_cast<double>(engine->size()));
       const double frame = n * double(FrameData::bytes_per_particle());
-      std::printf("memory       %s in the engine (%.0f B per particle after the first neighbour list) + %s "
-                  "per output frame\n",
-                  human_bytes(double(engine->bytes())).c_str(), double(engine->bytes()) / n,
-                  human_bytes(frame).c_str());
+      if (engine->size() > 0)
+        std::printf("memory       %s in the engine (%.0f B per particle after the first neighbour list) + %s "
+                    "per output frame%s\n",
+                    human_bytes(double(engine->bytes())).c_str(), double(engine->bytes()) / n,
+                    human_bytes(frame).c_str(),
+                    from_inlets > 0 ? " at the start; each particle an inlet adds costs about as much" : "");
+      else
+        std::printf("memory       %s in the engine before the inlets add their particles (cells and walls)\n",
+                    human_bytes(double(engine->bytes())).c_str());
     }
     for (const std::string& w : resolution_warnings(p.scene))
       std::printf("%s\n", w.c_str());

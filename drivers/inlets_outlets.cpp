@@ -99,7 +99,24 @@ ParticleExchange::ParticleExchange(const Scene& scene, ParticleSet& particles, d
     outlets_.push_back(Outlet{o, 0, 0.0});
     consider(o.every);
   }
-  every_steps_ = every > 0 ? std::max(1L, std::lround(every / dt)) : 100;
+  every_steps_ =
+      every > 0 ? std::max(1L, std::lround(every / dt)) : default_every_steps(scene.output.every, dt);
+}
+
+long ParticleExchange::default_every_steps(double output_every, double dt) {
+  // Every frame falls on an exchange, so no frame shows a particle past an outlet: the largest divisor of
+  // the frame interval up to 100 steps, unless that is so short that exchanges would cost more than steps.
+  const long frame = output_every > 0 ? std::lround(output_every / dt) : 0;
+  for (long e = std::min(100L, frame); e >= 20; --e)
+    if (frame % e == 0) return e;
+  return 100;
+}
+
+std::size_t ParticleExchange::waiting() const {
+  std::size_t n = 0;
+  for (const Inlet& in : inlets_)
+    n += in.queue.size() - in.inserted;
+  return n;
 }
 
 std::size_t ParticleExchange::owed(const Inlet& in, double time) const {

@@ -21,8 +21,12 @@ public:
   ParticleExchange(const Scene& scene, ParticleSet& particles, double dt);
 
   bool active() const { return !inlets_.empty() || !outlets_.empty(); }
-  // Steps between two exchanges (the shortest `every` of the inlets and outlets).
+  // Steps between two exchanges: the shortest `every` of the inlets and outlets, or by default the largest
+  // divisor of the output interval up to 100 steps (100 when it has none from 20 up).
   long every_steps() const { return every_steps_; }
+  static long default_every_steps(double output_every, double dt);
+  // Inlet particles not yet placed.
+  std::size_t waiting() const;
   // Remove what the outlets caught and add what the inlets owe by now (the engine's time).
   void apply(Engine& engine);
   // Totals so far, as series columns: inlet_<group>_count/_mass, outlet_<name>_count/_mass (kg), particles.
