@@ -413,12 +413,27 @@ std::string require_analyses_and_physics(const PreparedRun& p) {
   const std::string physics = physics_name(p.config.contact);
   for (const auto& c : compiled_physics())
     if (c == physics) return physics;
-  std::string list;
+  // Every sensible combination of components is compiled (models/component_lists.hpp, and the parser
+  // refuses the others): what is missing is a direct scaling method around a law it is not compiled for.
+  if (p.config.contact.scaling == "none") {
+    std::string all;
+    for (const auto& c : compiled_physics())
+      all += " " + c;
+    throw SceneError(scene_error_message(p.scene.source_file, "contact",
+                                         "the combination '" + physics + "' is not compiled",
+                                         "choose one of:" + all));
+  }
+  const std::string method = "@" + p.config.contact.scaling;
+  std::string laws;
   for (const auto& c : compiled_physics())
-    list += " " + c;
-  throw SceneError(scene_error_message(p.scene.source_file, "contact",
-                                       "the combination '" + physics + "' is not compiled",
-                                       "choose one of:" + list));
+    if (c.size() > method.size() && c.compare(c.size() - method.size(), method.size(), method) == 0)
+      laws += (laws.empty() ? "" : ", ") + c.substr(0, c.size() - method.size());
+  throw SceneError(scene_error_message(
+      p.scene.source_file, "contact",
+      "direct force scaling " + p.config.contact.scaling + " is compiled around " + laws +
+          " (the laws of Hu et al. 2022), not around " + physics.substr(0, physics.size() - method.size()),
+      "use one of those laws, or scale the parameters instead (coarse_grain.law: chen_elliott, bond, "
+      "cohesion or thakur)"));
 }
 
 } // namespace

@@ -1,8 +1,6 @@
-// Linear spring-dashpot with the incremental tangential spring.
+// Every sensible combination of components with the linear spring-dashpot as the normal law.
 #include "drivers/physics_factory.hpp"
-#include "models/linear_spring_dashpot.hpp"
-#include "models/mindlin_tangential.hpp"
 
-using namespace cgdem::models;
-CGDEM_DEFINE_PHYSICS(make_linear_mindlin, ContactLaw<LinearSpringDashpot, NoAdhesion, MindlinTangential, NoRolling>)
-CGDEM_DEFINE_PHYSICS(make_linear, ContactLaw<LinearSpringDashpot, NoAdhesion, NoFriction, NoRolling>)
+void cgdem::add_linear_laws(std::vector<PhysicsEntry>& registry) {
+  add_laws_of<models::LinearSpringDashpot>(registry);
+}

@@ -1,21 +1,7 @@
-// Direct force scaling sakai (models/scaling/direct_force_scaling.hpp) around Hertz-Mindlin, JKR-Mindlin
-// and Hertz with capillary bridges (Hu 2022's validation laws); registered as "<law>@sakai".
+// Direct force scaling sakai (models/scaling/direct_force_scaling.hpp) around the laws it is validated
+// with; registered as "<law>@sakai".
 #include "drivers/physics_factory.hpp"
-#include "models/capillary_bridge.hpp"
-#include "models/hertz_tsuji.hpp"
-#include "models/jkr_full.hpp"
-#include "models/mindlin_tangential.hpp"
-#include "models/scaling/direct_force_scaling.hpp"
 
-using namespace cgdem::models;
-using cgdem::models::scaling::DirectForceScaling;
-using Method = cgdem::models::scaling::Sakai;
-CGDEM_DEFINE_PHYSICS(
-    make_hertz_mindlin_sakai,
-    DirectForceScaling<Method, ContactLaw<HertzTsuji, NoAdhesion, MindlinTangential, NoRolling>>)
-CGDEM_DEFINE_PHYSICS(
-    make_jkr_mindlin_sakai,
-    DirectForceScaling<Method, ContactLaw<JkrFull, NoAdhesion, MindlinTangential, NoRolling>>)
-CGDEM_DEFINE_PHYSICS(
-    make_hertz_capillary_sakai,
-    DirectForceScaling<Method, ContactLaw<HertzTsuji, CapillaryBridge, NoFriction, NoRolling>>)
+void cgdem::add_sakai_laws(std::vector<PhysicsEntry>& registry) {
+  add_directly_scaled_laws<models::scaling::Sakai>(registry);
+}

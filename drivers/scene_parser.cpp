@@ -1,5 +1,6 @@
 // Scene files: YAML -> Scene. See drivers/scene_parser.hpp and docs/scene_format.md.
 #include "drivers/scene_parser.hpp"
+#include "models/component_lists.hpp"
 
 #include <yaml-cpp/yaml.h>
 #include "core/scaling.hpp"
@@ -42,10 +43,17 @@ std::string scene_error_message(const std::string& location, const std::string& 
 
 namespace {
 
-const std::vector<std::string> kNormalLaws = {"hertz", "linear", "jkr", "eepa"};
-const std::vector<std::string> kAdhesionLaws = {"none", "dmt", "capillary"};
-const std::vector<std::string> kTangentialLaws = {"mindlin", "none"};
-const std::vector<std::string> kRollingLaws = {"none", "constant_torque", "spring_dashpot"};
+// The contact-law choices are the names of the compiled components (models/component_lists.hpp).
+template <class List>
+std::vector<std::string> component_names(List list) {
+  std::vector<std::string> out;
+  models::for_each_type(list, [&](auto t) { out.emplace_back(std::decay_t<decltype(t)>::type::name); });
+  return out;
+}
+const std::vector<std::string> kNormalLaws = component_names(models::NormalLaws{});
+const std::vector<std::string> kAdhesionLaws = component_names(models::AdhesionLaws{});
+const std::vector<std::string> kTangentialLaws = component_names(models::TangentialLaws{});
+const std::vector<std::string> kRollingLaws = component_names(models::RollingLaws{});
 const std::vector<std::string> kCoarseLaws = {
     "none",       "chen_elliott", "bond",       "cohesion", "thakur", "thakur_f0_linear", "thakur_f0_cubic",
     "hu_method1", "hu_method2",   "hu_method3", "sakai"};
@@ -469,11 +477,18 @@ struct Parser {
             "restitution_speed_ratio must be > 1 and < 1e6 (got " + num_str(c.restitution_speed_ratio) +
                 "): below the sticking velocity an adhesive pair does not rebound",
             "give the impact speed in sticking velocities at which JKR/DMT pairs rebound with e, e.g. 20");
-    if ((c.normal == "jkr" || c.normal == "eepa") && c.adhesion == "dmt")
+    const std::string_view problem =
+        models::combination_problem(c.normal, c.adhesion, c.tangential, c.rolling);
+    if (!problem.empty() && c.adhesion == "dmt")
       ctx.fail(m.sub("adhesion"), m.get("adhesion").mark,
-               "adhesion '" + c.adhesion + "' cannot be combined with normal law '" + c.normal +
-                   "', which has its own adhesion",
-               "use adhesion: none (or capillary) with normal: " + c.normal);
+               "adhesion 'dmt' cannot be combined with normal law '" + c.normal +
+                   "': " + std::string(problem),
+               "use adhesion: none (or capillary) with normal: " + c.normal + ", or normal: hertz with dmt");
+    if (!problem.empty())
+      ctx.fail(m.sub("rolling"), m.get("rolling").mark,
+               "rolling '" + c.rolling + "' cannot be combined with tangential '" + c.tangential +
+                   "': " + std::string(problem),
+               "add tangential: mindlin, or set rolling: none");
   }
 
   void parse_pairs(const Field& f) {

@@ -23,7 +23,7 @@ namespace cgdem::models {
 struct LinearEepa {
   static constexpr int history_size = 1;
   static constexpr bool history_antisymmetric = false;
-  static constexpr const char* name = "eepa_linear";
+  static constexpr const char* name = "eepa";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
 
   KOKKOS_INLINE_FUNCTION NormalResult operator()(const PairParameters& p, const PairState& s, Real* h) const {
