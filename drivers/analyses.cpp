@@ -217,15 +217,49 @@ public:
       p.fail("wall", "wall '" + w.name + "' is a " + w.type + "; the stress needs a plane wall",
              "name a plane wall (a piston or plate)");
     wall_ = w;
-    area_ = p.num("area", 0, true);
-    height_ = p.num("initial_height", 0, true);
-    if (area_ <= 0) p.fail("area", "area must be > 0", "give the wall's loaded area in m^2");
-    if (height_ <= 0) p.fail("initial_height", "initial_height must be > 0", "give the sample height in m");
+    area_ = p.num("area", default_area(w, p.scene().domain));
+    if (area_ <= 0)
+      p.fail("area",
+             p.has("area") ? "area must be > 0"
+                           : "the wall's area is not defined (an infinite plane "
+                             "whose normal is not along an axis)",
+             "give the wall's loaded area in m^2");
+    height_ = p.num("initial_height", 0);
+    if (p.has("initial_height") && height_ <= 0)
+      p.fail("initial_height", "initial_height must be > 0", "give the sample height in m, or leave it out");
     from_ = p.num("from", 0);
     if (from_ < 0) p.fail("from", "from must be >= 0", "give the time (s) the test starts, e.g. from: 0.5");
   }
-  // Strain counted from the wall's position at `from` (a piston that first approaches the sample).
+  // The loaded area when none is given: a bounded plane's own (less its orifice), or for an infinite
+  // plane along an axis the domain's cross-section across it (a piston filling a periodic box); 0 if
+  // neither applies.
+  static double default_area(const WallSpec& w, const DomainSpec& d) {
+    if (w.bounded()) {
+      const double face = w.size[0] > 0 ? w.size[0] * w.size[1] : kPi * w.radius * w.radius;
+      return face - kPi * w.orifice * w.orifice;
+    }
+    for (int a = 0; a < 3; ++a)
+      if (std::fabs(std::fabs(w.normal[a]) - 1) < 1e-12)
+        return (d.hi[(a + 1) % 3] - d.lo[(a + 1) % 3]) * (d.hi[(a + 2) % 3] - d.lo[(a + 2) % 3]);
+    return 0;
+  }
+  // Without initial_height: the sample's extent from the wall along its normal (to the farthest particle
+  // edge) when the test starts, measured at the first output from `from` on.
+  void measure_height(const AnalysisInput& in) {
+    const Vec3d moved = wall_.displacement(in.time);
+    double h = 0;
+    for (std::size_t i = 0; i < in.frame.size(); ++i) {
+      double s = in.frame.radius[i];
+      for (int a = 0; a < 3; ++a)
+        s += (in.frame.position[3 * i + a] - wall_.point[a] - moved[a]) * wall_.normal[a];
+      h = std::max(h, s);
+    }
+    height_ = h;
+  }
+  // Strain counted from the wall's position at `from` (a piston that first approaches the sample); nan
+  // until the sample height is known.
   double strain(double t) const {
+    if (!(height_ > 0)) return std::numeric_limits<double>::quiet_NaN();
     const Vec3d d = wall_.displacement(std::max(t, from_)), d0 = wall_.displacement(from_);
     return (dot(d, wall_.normal) - dot(d0, wall_.normal)) / height_;
   }
@@ -238,6 +272,7 @@ public:
     return std::numeric_limits<double>::quiet_NaN();
   }
   void evaluate(const AnalysisInput& in, std::map<std::string, double>& out) override {
+    if (!(height_ > 0) && in.time >= from_) measure_height(in);
     const double s = stress(in), e = strain(in.time);
     if (!peak_) {
       out[name()] = s;

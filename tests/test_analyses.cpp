@@ -240,6 +240,44 @@ analyses:
   EXPECT_NEAR(out.at("ucs_strain"), 0.15, 1e-12);
 }
 
+TEST(Analyses, WallStressTakesTheAreaFromTheWallOrDomainAndMeasuresTheHeight) {
+  Scene s = parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [0.01, 0.02, 0.02]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+walls:
+  - {name: plate, material: m, point: [0.005, 0.005, 0], normal: [0, 0, 1], radius: 0.004, orifice: 0.001}
+  - {name: piston, material: m, point: [0, 0, 0.01], normal: [0, 0, -1], motion: {velocity: [0, 0, -0.001], start: 0.5}}
+  - {name: tilted, material: m, point: [0, 0, 0], normal: [1, 0, 1]}
+time: {end: 1}
+analyses:
+  - {type: wall_stress, name: piston, wall: piston}
+  - {type: wall_stress, name: plate, wall: plate, initial_height: 0.01}
+)",
+                             "<test>");
+  auto list = make_analyses(s);
+  FrameData f;
+  add(f, 0.005, 0.005, 0.005, 0.001);
+  const std::vector<std::string> names{"plate", "piston", "tilted"};
+  std::map<std::string, double> out;
+  // At t = 0 the sample reaches from the piston (z = 0.01) down to the particle's bottom edge: 6 mm.
+  run_analyses(list, AnalysisInput{f, 0, names, {0, 0, -1, 0, 0, 2, 0, 0, 0}}, out);
+  EXPECT_NEAR(out.at("piston"), 2 / (0.01 * 0.02), 1e-9); // the domain's x-y cross-section
+  EXPECT_NEAR(out.at("plate"), 1 / (kPi * (0.004 * 0.004 - 0.001 * 0.001)), 1e-6); // the disk less its hole
+  EXPECT_NEAR(out.at("piston_strain"), 0, 1e-15);
+  run_analyses(list, AnalysisInput{f, 1.5, names, {0, 0, -1, 0, 0, 2, 0, 0, 0}}, out);
+  EXPECT_NEAR(out.at("piston_strain"), 0.001 / 0.006, 1e-12);
+  // An infinite plane off the axes has no area of its own.
+  s.analyses.push_back(s.analyses[0]);
+  s.analyses.back().name = "t";
+  s.analyses.back().params["wall"] = "tilted";
+  try {
+    make_analyses(s);
+    ADD_FAILURE() << "a tilted infinite plane got an area";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("give the wall's loaded area"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Analyses, SegmentedPistonApproachLoadUnloadAndStrainFromTestStart) {
   // A piston that approaches fast (0.1 m/s for 0.1 s), loads (-1 mm/s for 1 s), then unloads (+1 mm/s for
   // 0.5 s): the scene's displacement, the device wall's offset and surface velocity, and the analyses'
@@ -359,8 +397,7 @@ time: {end: 1}
   EXPECT_NE(error("analyses: [{type: wall_stress, wall: roof, area: 1, initial_height: 1}]")
                 .find("analyses.0.wall"),
             std::string::npos);
-  EXPECT_NE(error("analyses: [{type: wall_stress, wall: floor, initial_height: 1}]")
-                .find("missing parameter 'area'"),
+  EXPECT_NE(error("analyses: [{type: wall_stress, wall: floor, area: -1}]").find("area must be > 0"),
             std::string::npos);
   EXPECT_NE(error("analyses: [{type: profile, binz: 3}]").find("unknown parameter 'binz'"),
             std::string::npos);
