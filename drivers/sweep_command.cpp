@@ -512,6 +512,17 @@ void write_record(const std::string& path, const RunRecord& r) {
   fs::rename(tmp, path); // atomic: the record is either absent or complete
 }
 
+namespace {
+
+// A recorded number; strtod, unlike operator>>, reads back the "nan" and "inf" that fmt writes.
+double number(const std::string& s) {
+  char* end = nullptr;
+  const double x = std::strtod(s.c_str(), &end);
+  return end == s.c_str() ? std::nan("") : x;
+}
+
+} // namespace
+
 RunRecord read_record(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read record " + path);
@@ -555,17 +566,15 @@ RunRecord read_record(const std::string& path) {
     else if (key == "engine_particle_steps_per_s")
       ls >> r.engine_particle_steps_per_s;
     else if (key == "value") {
-      std::string name;
-      double v = 0;
+      std::string name, v;
       ls >> name >> v;
-      r.values[name] = v;
+      r.values[name] = number(v);
     } else if (key == "samples") {
-      std::string name;
+      std::string name, x;
       ls >> name;
       auto& v = r.samples[name];
-      double x;
       while (ls >> x)
-        v.push_back(x);
+        v.push_back(number(x));
     }
   }
   if (r.run.empty()) throw std::runtime_error("record " + path + " names no run");

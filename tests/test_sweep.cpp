@@ -130,6 +130,16 @@ TEST(SweepOptions, CompareRunsFromRecords) {
   EXPECT_EQ(back.values, run.values);
   EXPECT_EQ(back.samples, run.samples);
   EXPECT_EQ(back.wall_time, run.wall_time);
+  // An undefined figure is recorded as nan and read back as nan, not as 0.
+  run.values["undefined"] = std::nan("");
+  run.samples["v"].push_back(std::nan(""));
+  write_record(p.string(), run);
+  const RunRecord nan_back = read_record(p.string());
+  fs::remove(p);
+  EXPECT_TRUE(std::isnan(nan_back.values.at("undefined")));
+  EXPECT_EQ(nan_back.values.at("angle"), 27);
+  ASSERT_EQ(nan_back.samples.at("v").size(), 5u);
+  EXPECT_TRUE(std::isnan(nan_back.samples.at("v").back()));
 }
 
 TEST_F(SweepTest, CsvPlotsAndFiguresFromRecords) {
