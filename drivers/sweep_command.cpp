@@ -355,6 +355,8 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
     t.columns.push_back(m);
   for (const auto& m : metrics)
     t.columns.push_back("err_" + m);
+  for (const auto& m : metrics)
+    t.columns.push_back("err_mass_matched_" + m);
   for (const auto& d : dists)
     t.columns.insert(t.columns.end(), {"w1_" + d, "ks_" + d});
   for (const auto& c : t.columns)
@@ -386,6 +388,8 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
       v.push_back(get(r.values, m));
     for (const auto& m : metrics)
       v.push_back(get(row.error, m));
+    for (const auto& m : metrics)
+      v.push_back(get(row.mass_matched, m));
     for (const auto& d : dists)
       v.insert(v.end(), {get(row.w1, d), get(row.ks, d)});
     std::vector<std::string> s;
@@ -581,7 +585,15 @@ RunRecord read_record(const std::string& path) {
   return r;
 }
 
-std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& ref) {
+double mass_matched_error(double x, double x_ref, double mass, double ref_mass, double p) {
+  if (!(mass > 0) || !(ref_mass > 0)) return std::nan("");
+  const double corrected = x_ref * std::pow(mass / ref_mass, p);
+  const double d = std::abs(x - corrected);
+  return corrected != 0 ? d / std::abs(corrected) : d;
+}
+
+std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& ref,
+                                   const SweepAnalyses& analyses) {
   std::vector<SweepRow> rows;
   for (const auto& r : runs) {
     SweepRow row;
@@ -595,6 +607,10 @@ std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const Run
         if (it == r.values.end()) continue;
         const double d = std::abs(it->second - kv.second);
         row.error[kv.first] = kv.second != 0 ? d / std::abs(kv.second) : d;
+        auto p = analyses.mass_exponent.find(kv.first);
+        if (p == analyses.mass_exponent.end()) continue;
+        const double e = mass_matched_error(it->second, kv.second, r.mass, ref.mass, p->second);
+        if (std::isfinite(e)) row.mass_matched[kv.first] = e;
       }
       for (const auto& kv : ref.samples) {
         auto it = r.samples.find(kv.first);
@@ -673,7 +689,9 @@ and scale factor k > 1 (groups.*.coarse_grain = {law, factor} on every group, an
 count divided by k^3 so that the same mass of powder is simulated). Each run is a separate 'cgdem run'
 process; its wall time, particle-steps per second, step and particle counts and the final values of the
 scene's analyses are recorded. Speed-up = reference wall time / run wall time; error = relative
-difference of each analysis value from the reference (W1 and KS distances for velocity distributions).
+difference of each analysis value from the reference (W1 and KS distances for velocity distributions);
+mass-matched error = the same against the reference scaled to the run's particle mass by the value's
+mass exponent (docs/sweeps.md).
 
 Writes DIR/sweep.csv, DIR/sweep.h5 (/runs/<column>), DIR/speedup.png, DIR/error.png, one record per run
 in DIR/records/ and each run's HDF5 file and log in DIR/runs/<run>/. Started again, the sweep skips every
@@ -834,7 +852,9 @@ int sweep_command(const std::vector<std::string>& args) {
     records.push_back(read_record(s.record_path(p.run).string()));
     if (p.run == "reference") reference = records.back();
   }
-  const auto rows = compare_runs(records, reference);
+  SweepAnalyses compared;
+  compared.mass_exponent = mass_exponents(s.analyses);
+  const auto rows = compare_runs(records, reference, compared);
   const Table table = make_table(rows, reference);
   const std::string csv = (s.dir / "sweep.csv").string();
   write_csv(csv, table);
@@ -857,11 +877,16 @@ int sweep_command(const std::vector<std::string>& args) {
                    r.speedup_cpu);
       for (const auto& a : s.analyses) {
         auto e = r.error.find(a->metric());
+        auto mm = r.mass_matched.find(a->metric());
         auto ks = r.ks.find(a->name());
         if (ks != r.ks.end())
           std::fprintf(stderr, "  %s KS %.3f", a->name().c_str(), ks->second);
-        else if (e != r.error.end())
+        else if (e != r.error.end()) {
           std::fprintf(stderr, "  %s err %.3f", a->metric().c_str(), e->second);
+          // Shown when the masses differ enough to change the figure.
+          if (mm != r.mass_matched.end() && std::fabs(mm->second - e->second) >= 5e-4)
+            std::fprintf(stderr, " (mass-matched %.3f)", mm->second);
+        }
       }
       std::fprintf(stderr, "  %s\n", r.record.status.c_str());
     }

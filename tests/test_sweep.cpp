@@ -12,6 +12,7 @@
 #include <thread>
 #include "drivers/analyses.hpp"
 #include "drivers/cli.hpp"
+#include "drivers/scene_parser.hpp"
 #include "drivers/sweep_command.hpp"
 
 using namespace cgdem;
@@ -140,6 +141,75 @@ TEST(SweepOptions, CompareRunsFromRecords) {
   EXPECT_EQ(nan_back.values.at("angle"), 27);
   ASSERT_EQ(nan_back.samples.at("v").size(), 5u);
   EXPECT_TRUE(std::isnan(nan_back.samples.at("v").back()));
+}
+
+// The error against the reference scaled to the run's mass, ref (m / m_ref)^p: a run 9 % heavier than the
+// reference, with an angle (p = 0), a heap height (p = 1/3) and a wall force (p = 1).
+TEST(SweepOptions, MassMatchedErrorFromRecords) {
+  RunRecord ref, run;
+  ref.run = "reference";
+  ref.mass = 2.0;
+  ref.values = {{"angle", 30}, {"height", 0.01}, {"force", 2.0}, {"unscaled", 5}};
+  run.run = "x_k2";
+  run.mass = 2.18; // mass ratio 1.09
+  run.values = {{"angle", 31}, {"height", 0.0105}, {"force", 2.2}, {"unscaled", 6}};
+  SweepAnalyses a;
+  a.mass_exponent = {{"angle", 0}, {"height", 1.0 / 3}, {"force", 1}};
+  const auto rows = compare_runs({ref, run}, ref, a);
+  const auto& mm = rows[1].mass_matched;
+  EXPECT_NEAR(mm.at("angle"), 31.0 / 30 - 1, 1e-15); // p = 0: the plain error
+  EXPECT_NEAR(mm.at("angle"), rows[1].error.at("angle"), 1e-15);
+  EXPECT_NEAR(mm.at("height"), 0.0105 / (0.01 * std::cbrt(1.09)) - 1, 1e-14);
+  EXPECT_NEAR(mm.at("height"), 0.02027, 1e-5);        // against 0.05 unmatched
+  EXPECT_NEAR(mm.at("force"), 2.2 / 2.18 - 1, 1e-14); // 0.0092 against 0.1 unmatched
+  EXPECT_NEAR(rows[1].error.at("force"), 0.1, 1e-14);
+  EXPECT_EQ(mm.count("unscaled"), 0u); // no exponent declared: no mass-matched error
+  // Below the reference value: |x / x_ref' - 1|, the same form as the plain error.
+  EXPECT_NEAR(mass_matched_error(2.0, 2.0, 2.18, 2.0, 1), 1 - 2.0 / 2.18, 1e-15);
+  // Equal masses: every mass-matched error is the plain one; an unrecorded mass gives none.
+  run.mass = ref.mass;
+  const SweepRow equal = compare_runs({run}, ref, a)[0];
+  EXPECT_EQ(equal.mass_matched.size(), 3u);
+  for (const auto& kv : equal.mass_matched)
+    EXPECT_DOUBLE_EQ(kv.second, equal.error.at(kv.first)) << kv.first;
+  run.mass = 0;
+  EXPECT_TRUE(compare_runs({run}, ref, a)[0].mass_matched.empty());
+}
+
+// Each analysis declares how its outputs scale with the sample's mass; mass_exponent overrides the main one.
+TEST(SweepOptions, AnalysesDeclareMassExponents) {
+  const Scene s = parse_scene_text(R"(domain: {lo: [-1, -1, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+walls: [{name: floor, type: plane, material: m, point: [0, 0, 0], normal: [0, 0, 1]}]
+time: {end: 1}
+analyses:
+  - {type: angle_of_repose, name: pile}
+  - {type: wall_stress, name: floor_stress, wall: floor, area: 1, initial_height: 1}
+  - {type: wall_stress, name: piston, wall: floor, area: 1, initial_height: 1, mass_exponent: 0}
+  - {type: unconfined_strength, name: ucs, wall: floor, area: 1, initial_height: 1}
+  - {type: planar_flow, name: flow}
+  - {type: profile, name: bed}
+)",
+                                   "<test>");
+  const auto p = mass_exponents(make_analyses(s));
+  EXPECT_EQ(p.at("pile"), 0);
+  EXPECT_DOUBLE_EQ(p.at("pile_height"), 1.0 / 3);
+  EXPECT_DOUBLE_EQ(p.at("pile_foot_radius"), 1.0 / 3);
+  EXPECT_EQ(p.at("floor_stress"), 1);
+  EXPECT_EQ(p.at("piston"), 0);
+  EXPECT_EQ(p.at("ucs"), 0);
+  EXPECT_EQ(p.at("flow"), 0.5);
+  EXPECT_EQ(p.at("flow_front"), 0);
+  EXPECT_EQ(p.at("bed_coordination"), 0);
+  const Scene bad = parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses: [{type: profile, mass_exponent: third}]
+)",
+                                     "<test>");
+  EXPECT_THROW(make_analyses(bad), SceneError);
 }
 
 TEST_F(SweepTest, CsvPlotsAndFiguresFromRecords) {
