@@ -43,6 +43,8 @@ RunRecord read_record(const std::string& path);                 // throws std::r
 
 // What a sweep takes from the scene's analyses to compare runs.
 struct SweepAnalyses {
+  std::vector<std::string> main;               // the values compared (Analysis::metric of each analysis)
+  std::vector<std::string> distributions;      // distribution analyses: their samples are compared
   std::map<std::string, double> mass_exponent; // value -> p, value ~ mass^p (Analysis::mass_exponents)
 };
 
@@ -51,8 +53,12 @@ struct SweepAnalyses {
 // |x_ref| per value (|x - x_ref| when x_ref = 0); W1 and KS between the sample sets of each distribution.
 // mass_matched: the same error against the reference corrected to the run's mass, x_ref (m / m_ref)^p, for
 // each value with a mass exponent p, when both masses are recorded.
+// A run is failed when it exited non-zero or lacks a finite value of a main figure: `ok` is false and
+// `status` says why ("failed (exit 3)", "failed (nan: pile)"); a failed reference leaves every error out.
 struct SweepRow {
   RunRecord record;
+  bool ok = true;
+  std::string status;
   double speedup = 0, speedup_cpu = 0;
   std::map<std::string, double> error, mass_matched, w1, ks;
 };
