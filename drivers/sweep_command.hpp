@@ -53,8 +53,9 @@ struct SweepAnalyses {
 // |x_ref| per value (|x - x_ref| when x_ref = 0); W1 and KS between the sample sets of each distribution.
 // mass_matched: the same error against the reference corrected to the run's mass, x_ref (m / m_ref)^p, for
 // each value with a mass exponent p, when both masses are recorded.
-// A run is failed when it exited non-zero or lacks a finite value of a main figure: `ok` is false and
-// `status` says why ("failed (exit 3)", "failed (nan: pile)"); a failed reference leaves every error out.
+// A run is failed when it exited non-zero or lacks a finite main figure (a value, or a distribution's
+// samples): `ok` is false and `status` says why ("failed (exit 3)", "failed (nan: pile)"). A reference
+// that exited non-zero leaves every error out; one with a nan value, the errors of that value.
 struct SweepRow {
   RunRecord record;
   bool ok = true;
