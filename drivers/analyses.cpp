@@ -571,8 +571,8 @@ std::vector<std::unique_ptr<Analysis>> make_analyses(const Scene& scene) {
       p.fail("type", "unknown analysis type '" + a.type + "'",
              (best_d <= 3 ? "did you mean '" + best + "'? " : std::string()) + "known types: " + known);
     }
+    const double e = p.num("mass_exponent", 0); // read for every type, so that a typo's message lists it
     if (p.has("mass_exponent")) {
-      const double e = p.num("mass_exponent", 0);
       if (!std::isfinite(e))
         p.fail("mass_exponent", "mass_exponent must be a finite number",
                "give p of value ~ mass^p, e.g. 0 for an angle, 1 for a force on a wall");

@@ -212,6 +212,21 @@ analyses: [{type: profile, mass_exponent: third}]
 )",
                                      "<test>");
   EXPECT_THROW(make_analyses(bad), SceneError);
+  // A misspelt mass_exponent is named with the known parameters, mass_exponent among them.
+  const Scene typo = parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses: [{type: profile, mass_exponnet: 1}]
+)",
+                                      "<test>");
+  try {
+    make_analyses(typo);
+    ADD_FAILURE() << "accepted mass_exponnet";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("known parameters: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mass_exponent"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(SweepTest, CsvPlotsAndFiguresFromRecords) {
