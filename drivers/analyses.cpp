@@ -202,6 +202,13 @@ public:
     out[name() + "_bins"] = double(fit.bins_used);
   }
 
+protected:
+  // A heap of fixed shape (the same angle): its lengths grow as the cube root of its mass, and so does the
+  // number of radial bins of a fixed width; the angle and the fit quality do not depend on the mass.
+  std::map<std::string, double> default_mass_exponents() const override {
+    return {{"", 0}, {"_height", 1.0 / 3}, {"_foot_radius", 1.0 / 3}, {"_r2", 0}, {"_bins", 1.0 / 3}};
+  }
+
 private:
   bool fixed_center_ = false, floor_given_ = false;
   double cx_ = 0, cy_ = 0, floor_ = 0, bin_width_ = 0, lo_ = 0.2, hi_ = 0.8;
@@ -290,6 +297,16 @@ public:
     out[name() + "_strain"] = e;
   }
 
+protected:
+  // wall_stress: the force of the sample on a wall of fixed area, as a floor carries its weight: p = 1.
+  // unconfined_strength: the peak stress a sample of fixed cross-section withstands is a property of the
+  // material and its packing, not of how much of it there is: p = 0. A strain-controlled compression
+  // read through wall_stress is such a material response too: give it mass_exponent: 0.
+  std::map<std::string, double> default_mass_exponents() const override {
+    if (!peak_) return {{"", 1}, {"_strain", 0}};
+    return {{"", 0}, {"_peak_strain", 0}, {"_stress", 0}, {"_strain", 0}};
+  }
+
 private:
   bool peak_;
   WallSpec wall_;
@@ -351,6 +368,17 @@ public:
     }
   }
 
+protected:
+  // Porosity and coordination are intensive: a bed with more mass has more particles at the same packing.
+  std::map<std::string, double> default_mass_exponents() const override {
+    return {{"", 0},
+            {"_min", 0},
+            {"_max", 0},
+            {"_coordination", 0},
+            {"_coordination_min", 0},
+            {"_coordination_max", 0}};
+  }
+
 private:
   CsvSink csv_;
   int axis_ = 2, bins_ = 10;
@@ -395,6 +423,13 @@ public:
         o << in.time << "," << b << "," << hi * b / bins_ << "," << hi * (b + 1) / bins_ << "," << pdf[b]
           << "\n";
     }
+  }
+
+protected:
+  // Speeds are set by what drives the flow (gravity over the scene's drop heights, a wall's speed), which
+  // the sample's mass does not change: p = 0.
+  std::map<std::string, double> default_mass_exponents() const override {
+    return {{"", 0}, {"_std", 0}, {"_median", 0}, {"_p90", 0}, {"_max", 0}};
   }
 
 private:
@@ -446,6 +481,12 @@ public:
     // Not yet defined before the first frame at or after average_from: nan, not 0, so that no plot or
     // sweep reads a zero angle.
     out[name() + "_mean"] = frames_ > 0 ? sum_ / frames_ : std::numeric_limits<double>::quiet_NaN();
+  }
+
+protected:
+  // The dynamic angle of a drum of fixed size and speed depends on the fill level only weakly: p = 0.
+  std::map<std::string, double> default_mass_exponents() const override {
+    return {{"", 0}, {"_rms", 0}, {"_cells", 0}, {"_mean", 0}};
   }
 
 private:
@@ -510,6 +551,15 @@ public:
     out[name() + "_bins"] = double(fit.bins_used);
   }
 
+protected:
+  // A planar flow or heap keeps its width (the channel's walls or periodic box): its mass grows with the
+  // area of its cross-section, so a heap of fixed shape has lengths (runout, height, bins of a fixed
+  // width) ~ mass^(1/2). The front is a coordinate, not a length (the runout is the length); the angle
+  // and the fit quality do not depend on the mass.
+  std::map<std::string, double> default_mass_exponents() const override {
+    return {{"", 0.5}, {"_front", 0}, {"_height", 0.5}, {"_angle", 0}, {"_r2", 0}, {"_bins", 0.5}};
+  }
+
 private:
   int axis_ = 0, direction_ = 1, up_ = 2, group_ = -1;
   bool origin_given_ = false, origin_set_ = false, floor_given_ = false;
@@ -556,10 +606,33 @@ std::vector<std::unique_ptr<Analysis>> make_analyses(const Scene& scene) {
       p.fail("type", "unknown analysis type '" + a.type + "'",
              (best_d <= 3 ? "did you mean '" + best + "'? " : std::string()) + "known types: " + known);
     }
+    const double e = p.num("mass_exponent", 0); // read for every type, so that a typo's message lists it
+    if (p.has("mass_exponent")) {
+      if (!std::isfinite(e))
+        p.fail("mass_exponent", "mass_exponent must be a finite number",
+               "give p of value ~ mass^p, e.g. 0 for an angle, 1 for a force on a wall");
+      made->set_mass_exponent(e);
+    }
     p.check_all_used();
     list.push_back(std::move(made));
   }
   return list;
+}
+
+std::map<std::string, double> Analysis::mass_exponents() const {
+  std::map<std::string, double> out;
+  for (const auto& kv : default_mass_exponents())
+    out[name_ + kv.first] = kv.second;
+  if (main_exponent_set_) out[metric()] = out[name_] = main_exponent_;
+  return out;
+}
+
+std::map<std::string, double> mass_exponents(const std::vector<std::unique_ptr<Analysis>>& analyses) {
+  std::map<std::string, double> out;
+  for (const auto& a : analyses)
+    for (const auto& kv : a->mass_exponents())
+      out.insert(kv);
+  return out;
 }
 
 void run_analyses(std::vector<std::unique_ptr<Analysis>>& analyses, const AnalysisInput& in,

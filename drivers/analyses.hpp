@@ -51,15 +51,28 @@ public:
   // The output a sweep compares against the reference and plots: the main value unless the analysis'
   // parameters make another one the meaningful figure (a drum's mean angle over the flowing regime).
   virtual std::string metric() const { return name_; }
+  // How each output (full name) scales with the mass of the sample, everything else in the scene fixed:
+  // value ~ mass^p. A sweep corrects the reference to a coarse run's mass with it (err_mass_matched_<value>
+  // in sweep.csv, docs/sweeps.md). The scene's `mass_exponent` parameter replaces p of the main figure.
+  std::map<std::string, double> mass_exponents() const;
+  void set_mass_exponent(double p) { main_exponent_ = p, main_exponent_set_ = true; }
+
+protected:
+  // The type's own exponents, keyed by output suffix ("" for the main figure, "_height", ...).
+  virtual std::map<std::string, double> default_mass_exponents() const = 0;
 
 private:
   std::string name_, type_;
+  double main_exponent_ = 0;
+  bool main_exponent_set_ = false;
 };
 
 const std::vector<std::string>& analysis_types();
 // Builds the scene's analyses; throws SceneError (one line naming analyses.N.key and the fix) on an unknown
 // type, a missing or malformed parameter, or a wall that does not exist.
 std::vector<std::unique_ptr<Analysis>> make_analyses(const Scene& scene);
+// The mass exponents of every output of `analyses` (Analysis::mass_exponents).
+std::map<std::string, double> mass_exponents(const std::vector<std::unique_ptr<Analysis>>& analyses);
 // Evaluates them all into `out`.
 void run_analyses(std::vector<std::unique_ptr<Analysis>>& analyses, const AnalysisInput& in,
                   std::map<std::string, double>& out);

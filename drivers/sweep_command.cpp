@@ -339,6 +339,7 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
                "law",
                "k",
                "status",
+               "exit_code",
                "particles",
                "mass_kg",
                "mass_ratio",
@@ -355,6 +356,8 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
     t.columns.push_back(m);
   for (const auto& m : metrics)
     t.columns.push_back("err_" + m);
+  for (const auto& m : metrics)
+    t.columns.push_back("err_mass_matched_" + m);
   for (const auto& d : dists)
     t.columns.insert(t.columns.end(), {"w1_" + d, "ks_" + d});
   for (const auto& c : t.columns)
@@ -366,6 +369,7 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
                           nan,
                           r.k,
                           nan,
+                          double(r.exit_code),
                           double(r.particles),
                           r.mass > 0 ? r.mass : nan,
                           r.mass > 0 && ref.mass > 0 ? r.mass / ref.mass : nan,
@@ -386,6 +390,8 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
       v.push_back(get(r.values, m));
     for (const auto& m : metrics)
       v.push_back(get(row.error, m));
+    for (const auto& m : metrics)
+      v.push_back(get(row.mass_matched, m));
     for (const auto& d : dists)
       v.insert(v.end(), {get(row.w1, d), get(row.ks, d)});
     std::vector<std::string> s;
@@ -395,7 +401,7 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
       else if (c == 1)
         s.push_back(r.law);
       else if (c == 3)
-        s.push_back(r.status);
+        s.push_back(row.status);
       else
         s.push_back(std::isnan(v[c]) ? "" : fmt(v[c]));
     }
@@ -512,6 +518,17 @@ void write_record(const std::string& path, const RunRecord& r) {
   fs::rename(tmp, path); // atomic: the record is either absent or complete
 }
 
+namespace {
+
+// A recorded number; strtod, unlike operator>>, reads back the "nan" and "inf" that fmt writes.
+double number(const std::string& s) {
+  char* end = nullptr;
+  const double x = std::strtod(s.c_str(), &end);
+  return end == s.c_str() ? std::nan("") : x;
+}
+
+} // namespace
+
 RunRecord read_record(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read record " + path);
@@ -555,37 +572,81 @@ RunRecord read_record(const std::string& path) {
     else if (key == "engine_particle_steps_per_s")
       ls >> r.engine_particle_steps_per_s;
     else if (key == "value") {
-      std::string name;
-      double v = 0;
+      std::string name, v;
       ls >> name >> v;
-      r.values[name] = v;
+      r.values[name] = number(v);
     } else if (key == "samples") {
-      std::string name;
+      std::string name, x;
       ls >> name;
       auto& v = r.samples[name];
-      double x;
       while (ls >> x)
-        v.push_back(x);
+        v.push_back(number(x));
     }
   }
   if (r.run.empty()) throw std::runtime_error("record " + path + " names no run");
   return r;
 }
 
-std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& ref) {
+double mass_matched_error(double x, double x_ref, double mass, double ref_mass, double p) {
+  if (!(mass > 0) || !(ref_mass > 0)) return std::nan("");
+  const double corrected = x_ref * std::pow(mass / ref_mass, p);
+  const double d = std::abs(x - corrected);
+  return corrected != 0 ? d / std::abs(corrected) : d;
+}
+
+namespace {
+
+// "" when the run succeeded, else why it failed: its exit status, or the main figures (values, or the
+// samples of a distribution) it lacks or has as nan.
+std::string failure(const RunRecord& r, const SweepAnalyses& a) {
+  if (r.exit_code != 0)
+    return r.status.empty() ? "failed (exit " + std::to_string(r.exit_code) + ")" : r.status;
+  std::string missing, nan;
+  for (const auto& m : a.main) {
+    auto it = r.values.find(m);
+    if (it == r.values.end())
+      missing += (missing.empty() ? "" : " ") + m;
+    else if (!std::isfinite(it->second))
+      nan += (nan.empty() ? "" : " ") + m;
+  }
+  for (const auto& d : a.distributions) {
+    auto it = r.samples.find(d);
+    if (it == r.samples.end() || it->second.empty())
+      missing += (missing.empty() ? "" : " ") + d;
+    else if (!std::all_of(it->second.begin(), it->second.end(), [](double x) { return std::isfinite(x); }))
+      nan += (nan.empty() ? "" : " ") + d;
+  }
+  if (missing.empty() && nan.empty()) return "";
+  std::string why;
+  if (!nan.empty()) why = "nan: " + nan;
+  if (!missing.empty()) why += (why.empty() ? "" : "; ") + std::string("missing: ") + missing;
+  return "failed (" + why + ")";
+}
+
+} // namespace
+
+std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& ref,
+                                   const SweepAnalyses& analyses) {
   std::vector<SweepRow> rows;
   for (const auto& r : runs) {
     SweepRow row;
     row.record = r;
+    const std::string why = failure(r, analyses);
+    row.ok = why.empty();
+    row.status = row.ok ? (r.status.empty() ? "ok" : r.status) : why;
     const bool ok = r.exit_code == 0 && ref.exit_code == 0;
     row.speedup = ok && r.wall_time > 0 ? ref.wall_time / r.wall_time : std::nan("");
     row.speedup_cpu = ok && r.cpu_time > 0 && ref.cpu_time > 0 ? ref.cpu_time / r.cpu_time : std::nan("");
     if (ok) {
       for (const auto& kv : ref.values) {
         auto it = r.values.find(kv.first);
-        if (it == r.values.end()) continue;
+        if (it == r.values.end() || !std::isfinite(it->second) || !std::isfinite(kv.second)) continue;
         const double d = std::abs(it->second - kv.second);
         row.error[kv.first] = kv.second != 0 ? d / std::abs(kv.second) : d;
+        auto p = analyses.mass_exponent.find(kv.first);
+        if (p == analyses.mass_exponent.end()) continue;
+        const double e = mass_matched_error(it->second, kv.second, r.mass, ref.mass, p->second);
+        if (std::isfinite(e)) row.mass_matched[kv.first] = e;
       }
       for (const auto& kv : ref.samples) {
         auto it = r.samples.find(kv.first);
@@ -664,7 +725,10 @@ and scale factor k > 1 (groups.*.coarse_grain = {law, factor} on every group, an
 count divided by k^3 so that the same mass of powder is simulated). Each run is a separate 'cgdem run'
 process; its wall time, particle-steps per second, step and particle counts and the final values of the
 scene's analyses are recorded. Speed-up = reference wall time / run wall time; error = relative
-difference of each analysis value from the reference (W1 and KS distances for velocity distributions).
+difference of each analysis value from the reference (W1 and KS distances for velocity distributions);
+mass-matched error = the same against the reference scaled to the run's particle mass by the value's
+mass exponent (docs/sweeps.md). A run that exits non-zero or lacks a finite main figure is listed as
+failed in sweep.csv (status, exit_code) and left out of the plots.
 
 Writes DIR/sweep.csv, DIR/sweep.h5 (/runs/<column>), DIR/speedup.png, DIR/error.png, one record per run
 in DIR/records/ and each run's HDF5 file and log in DIR/runs/<run>/. Started again, the sweep skips every
@@ -825,7 +889,11 @@ int sweep_command(const std::vector<std::string>& args) {
     records.push_back(read_record(s.record_path(p.run).string()));
     if (p.run == "reference") reference = records.back();
   }
-  const auto rows = compare_runs(records, reference);
+  SweepAnalyses compared;
+  for (const auto& a : s.analyses)
+    (a->is_distribution() ? compared.distributions : compared.main).push_back(a->metric());
+  compared.mass_exponent = mass_exponents(s.analyses);
+  const auto rows = compare_runs(records, reference, compared);
   const Table table = make_table(rows, reference);
   const std::string csv = (s.dir / "sweep.csv").string();
   write_csv(csv, table);
@@ -840,25 +908,40 @@ int sweep_command(const std::vector<std::string>& args) {
       std::fprintf(stderr, "cgdem sweep: the plots failed (%s); the tables are written\n", cmd.c_str());
   }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::string failed;
+  for (const auto& r : rows)
+    if (!r.ok) failed += (failed.empty() ? "" : ", ") + r.record.run;
   if (!o.quiet) {
     std::fprintf(stderr, "done: %d runs in %.1f s; wrote %s, sweep.h5 and the plots in %s\n", s.total, wall,
                  csv.c_str(), s.dir.c_str());
     for (const auto& r : rows) {
+      if (!r.ok) {
+        std::fprintf(stderr, "  %-24s %s: left out of the plots\n", r.record.run.c_str(), r.status.c_str());
+        continue;
+      }
       std::fprintf(stderr, "  %-24s speed-up %7.2f (CPU time %7.2f)", r.record.run.c_str(), r.speedup,
                    r.speedup_cpu);
       for (const auto& a : s.analyses) {
         auto e = r.error.find(a->metric());
+        auto mm = r.mass_matched.find(a->metric());
         auto ks = r.ks.find(a->name());
         if (ks != r.ks.end())
           std::fprintf(stderr, "  %s KS %.3f", a->name().c_str(), ks->second);
-        else if (e != r.error.end())
+        else if (e != r.error.end()) {
           std::fprintf(stderr, "  %s err %.3f", a->metric().c_str(), e->second);
+          // Shown when the masses differ enough to change the figure.
+          if (mm != r.mass_matched.end() && std::fabs(mm->second - e->second) >= 5e-4)
+            std::fprintf(stderr, " (mass-matched %.3f)", mm->second);
+        }
       }
-      std::fprintf(stderr, "  %s\n", r.record.status.c_str());
+      std::fprintf(stderr, "  %s\n", r.status.c_str());
     }
   }
-  for (const auto& r : records)
-    if (r.exit_code != 0) return 1;
+  if (!failed.empty()) {
+    std::fprintf(stderr, "cgdem sweep: failed: %s (see status and exit_code in %s)\n", failed.c_str(),
+                 csv.c_str());
+    return 1;
+  }
   return 0;
 }
 

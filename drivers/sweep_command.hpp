@@ -41,15 +41,33 @@ struct RunRecord {
 void write_record(const std::string& path, const RunRecord& r); // atomic
 RunRecord read_record(const std::string& path);                 // throws std::runtime_error
 
+// What a sweep takes from the scene's analyses to compare runs.
+struct SweepAnalyses {
+  std::vector<std::string> main;               // the values compared (Analysis::metric of each analysis)
+  std::vector<std::string> distributions;      // distribution analyses: their samples are compared
+  std::map<std::string, double> mass_exponent; // value -> p, value ~ mass^p (Analysis::mass_exponents)
+};
+
 // A run against the reference: speed-up = reference wall time / run wall time (speedup_cpu: the same with
 // CPU seconds, which a loaded machine does not distort for single-threaded runs); errors = |x - x_ref| /
 // |x_ref| per value (|x - x_ref| when x_ref = 0); W1 and KS between the sample sets of each distribution.
+// mass_matched: the same error against the reference corrected to the run's mass, x_ref (m / m_ref)^p, for
+// each value with a mass exponent p, when both masses are recorded.
+// A run is failed when it exited non-zero or lacks a finite main figure (a value, or a distribution's
+// samples): `ok` is false and `status` says why ("failed (exit 3)", "failed (nan: pile)"). A reference
+// that exited non-zero leaves every error out; one with a nan value, the errors of that value.
 struct SweepRow {
   RunRecord record;
+  bool ok = true;
+  std::string status;
   double speedup = 0, speedup_cpu = 0;
-  std::map<std::string, double> error, w1, ks;
+  std::map<std::string, double> error, mass_matched, w1, ks;
 };
-std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& reference);
+std::vector<SweepRow> compare_runs(const std::vector<RunRecord>& runs, const RunRecord& reference,
+                                   const SweepAnalyses& analyses = {});
+// |x / x_ref' - 1| with x_ref' = x_ref (mass / ref_mass)^p (|x - x_ref'| when x_ref' = 0): the relative error
+// against the reference scaled to the run's mass; nan when a mass is not positive.
+double mass_matched_error(double x, double x_ref, double mass, double ref_mass, double p);
 
 SweepOptions parse_sweep_options(const std::vector<std::string>& args); // throws CliError
 const char* sweep_help();

@@ -12,6 +12,7 @@
 #include <thread>
 #include "drivers/analyses.hpp"
 #include "drivers/cli.hpp"
+#include "drivers/scene_parser.hpp"
 #include "drivers/sweep_command.hpp"
 
 using namespace cgdem;
@@ -130,6 +131,102 @@ TEST(SweepOptions, CompareRunsFromRecords) {
   EXPECT_EQ(back.values, run.values);
   EXPECT_EQ(back.samples, run.samples);
   EXPECT_EQ(back.wall_time, run.wall_time);
+  // An undefined figure is recorded as nan and read back as nan, not as 0.
+  run.values["undefined"] = std::nan("");
+  run.samples["v"].push_back(std::nan(""));
+  write_record(p.string(), run);
+  const RunRecord nan_back = read_record(p.string());
+  fs::remove(p);
+  EXPECT_TRUE(std::isnan(nan_back.values.at("undefined")));
+  EXPECT_EQ(nan_back.values.at("angle"), 27);
+  ASSERT_EQ(nan_back.samples.at("v").size(), 5u);
+  EXPECT_TRUE(std::isnan(nan_back.samples.at("v").back()));
+}
+
+// The error against the reference scaled to the run's mass, ref (m / m_ref)^p: a run 9 % heavier than the
+// reference, with an angle (p = 0), a heap height (p = 1/3) and a wall force (p = 1).
+TEST(SweepOptions, MassMatchedErrorFromRecords) {
+  RunRecord ref, run;
+  ref.run = "reference";
+  ref.mass = 2.0;
+  ref.values = {{"angle", 30}, {"height", 0.01}, {"force", 2.0}, {"unscaled", 5}};
+  run.run = "x_k2";
+  run.mass = 2.18; // mass ratio 1.09
+  run.values = {{"angle", 31}, {"height", 0.0105}, {"force", 2.2}, {"unscaled", 6}};
+  SweepAnalyses a;
+  a.main = {"angle", "height", "force"};
+  a.mass_exponent = {{"angle", 0}, {"height", 1.0 / 3}, {"force", 1}};
+  const auto rows = compare_runs({ref, run}, ref, a);
+  ASSERT_TRUE(rows[1].ok);
+  const auto& mm = rows[1].mass_matched;
+  EXPECT_NEAR(mm.at("angle"), 31.0 / 30 - 1, 1e-15); // p = 0: the plain error
+  EXPECT_NEAR(mm.at("angle"), rows[1].error.at("angle"), 1e-15);
+  EXPECT_NEAR(mm.at("height"), 0.0105 / (0.01 * std::cbrt(1.09)) - 1, 1e-14);
+  EXPECT_NEAR(mm.at("height"), 0.02027, 1e-5);        // against 0.05 unmatched
+  EXPECT_NEAR(mm.at("force"), 2.2 / 2.18 - 1, 1e-14); // 0.0092 against 0.1 unmatched
+  EXPECT_NEAR(rows[1].error.at("force"), 0.1, 1e-14);
+  EXPECT_EQ(mm.count("unscaled"), 0u); // no exponent declared: no mass-matched error
+  // Below the reference value: |x / x_ref' - 1|, the same form as the plain error.
+  EXPECT_NEAR(mass_matched_error(2.0, 2.0, 2.18, 2.0, 1), 1 - 2.0 / 2.18, 1e-15);
+  // Equal masses: every mass-matched error is the plain one; an unrecorded mass gives none.
+  run.mass = ref.mass;
+  const SweepRow equal = compare_runs({run}, ref, a)[0];
+  EXPECT_EQ(equal.mass_matched.size(), 3u);
+  for (const auto& kv : equal.mass_matched)
+    EXPECT_DOUBLE_EQ(kv.second, equal.error.at(kv.first)) << kv.first;
+  run.mass = 0;
+  EXPECT_TRUE(compare_runs({run}, ref, a)[0].mass_matched.empty());
+}
+
+// Each analysis declares how its outputs scale with the sample's mass; mass_exponent overrides the main one.
+TEST(SweepOptions, AnalysesDeclareMassExponents) {
+  const Scene s = parse_scene_text(R"(domain: {lo: [-1, -1, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+walls: [{name: floor, type: plane, material: m, point: [0, 0, 0], normal: [0, 0, 1]}]
+time: {end: 1}
+analyses:
+  - {type: angle_of_repose, name: pile}
+  - {type: wall_stress, name: floor_stress, wall: floor, area: 1, initial_height: 1}
+  - {type: wall_stress, name: piston, wall: floor, area: 1, initial_height: 1, mass_exponent: 0}
+  - {type: unconfined_strength, name: ucs, wall: floor, area: 1, initial_height: 1}
+  - {type: planar_flow, name: flow}
+  - {type: profile, name: bed}
+)",
+                                   "<test>");
+  const auto p = mass_exponents(make_analyses(s));
+  EXPECT_EQ(p.at("pile"), 0);
+  EXPECT_DOUBLE_EQ(p.at("pile_height"), 1.0 / 3);
+  EXPECT_DOUBLE_EQ(p.at("pile_foot_radius"), 1.0 / 3);
+  EXPECT_EQ(p.at("floor_stress"), 1);
+  EXPECT_EQ(p.at("piston"), 0);
+  EXPECT_EQ(p.at("ucs"), 0);
+  EXPECT_EQ(p.at("flow"), 0.5);
+  EXPECT_EQ(p.at("flow_front"), 0);
+  EXPECT_EQ(p.at("bed_coordination"), 0);
+  const Scene bad = parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses: [{type: profile, mass_exponent: third}]
+)",
+                                     "<test>");
+  EXPECT_THROW(make_analyses(bad), SceneError);
+  // A misspelt mass_exponent is named with the known parameters, mass_exponent among them.
+  const Scene typo = parse_scene_text(R"(domain: {lo: [0, 0, 0], hi: [1, 1, 1]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+time: {end: 1}
+analyses: [{type: profile, mass_exponnet: 1}]
+)",
+                                      "<test>");
+  try {
+    make_analyses(typo);
+    ADD_FAILURE() << "accepted mass_exponnet";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("known parameters: "), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mass_exponent"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(SweepTest, CsvPlotsAndFiguresFromRecords) {
@@ -238,4 +335,86 @@ TEST_F(SweepTest, KilledSweepResumes) {
   EXPECT_NE(log.find("3 runs (" + std::to_string(3 - complete) + " to do)"), std::string::npos) << log;
   EXPECT_EQ(slurp(ref), before);
   EXPECT_EQ(read_csv(dir / "s" / "sweep.csv").rows.size(), 3u);
+}
+
+// A failed run (non-zero exit, or a nan main figure) is listed as failed in sweep.csv and the summary and
+// left out of the plots; a plot left without a finite point is not written. Every record is pre-created:
+// the sweep runs nothing and builds the table and plots from the records alone.
+TEST_F(SweepTest, FailedRunsListedAndLeftOutOfPlots) {
+  const fs::path s = dir / "s", records = s / "records";
+  RunRecord ref;
+  ref.run = "reference";
+  ref.law = "none";
+  ref.status = "ok";
+  ref.particles = 300;
+  ref.steps = 100;
+  ref.wall_time = 8;
+  ref.mass = 1e-3;
+  ref.values = {{"pile", 20}, {"pile_height", 0.004}, {"floor_stress", 1}, {"bed", 0.5}, {"speed", 0.1}};
+  ref.samples["speed"] = {0, 0.1, 0.2};
+  RunRecord k2 = ref, k3 = ref;
+  k2.run = "chen_elliott_k2";
+  k2.law = "chen_elliott";
+  k2.k = 2;
+  k2.particles = 38;
+  k2.wall_time = 2;
+  k2.mass = 1.09e-3; // a polydisperse-like mass deficit: floor_stress gets a mass-matched curve
+  k2.values = {{"pile", 22}, {"pile_height", 0.0042}, {"floor_stress", 1.1}, {"bed", 0.52}, {"speed", 0.12}};
+  k3.run = "chen_elliott_k3";
+  k3.law = "chen_elliott";
+  k3.k = 3;
+  k3.status = "failed (exit 3)";
+  k3.exit_code = 3;
+  k3.particles = 0;
+  k3.values.clear();
+  k3.samples.clear();
+  for (const auto& r : {ref, k2, k3})
+    write_record((records / (r.run + ".txt")).string(), r);
+
+  EXPECT_EQ(cgdem(args("")), 1) << slurp(dir / "out.txt"); // some run failed
+  std::string log = slurp(dir / "out.txt");
+  EXPECT_NE(log.find("3 runs (0 to do)"), std::string::npos) << log;
+  Csv csv = read_csv(s / "sweep.csv");
+  ASSERT_EQ(csv.rows.size(), 3u);
+  std::size_t row = csv.find("chen_elliott_k3");
+  ASSERT_LT(row, 3u);
+  EXPECT_EQ(csv.rows[row].at("status"), "failed (exit 3)");
+  EXPECT_EQ(csv.rows[row].at("exit_code"), "3");
+  for (const char* c : {"pile", "err_pile", "err_mass_matched_pile", "speedup", "ks_speed"})
+    EXPECT_EQ(csv.rows[row].at(c), "") << c;
+  row = csv.find("chen_elliott_k2");
+  EXPECT_EQ(csv.rows[row].at("status"), "ok");
+  EXPECT_EQ(csv.rows[row].at("exit_code"), "0");
+  EXPECT_NEAR(csv.num(row, "mass_ratio"), 1.09, 1e-12);
+  EXPECT_NEAR(csv.num(row, "err_floor_stress"), 0.1, 1e-12);
+  EXPECT_NEAR(csv.num(row, "err_mass_matched_floor_stress"), 1.1 / 1.09 - 1, 1e-12); // p = 1
+  EXPECT_NEAR(csv.num(row, "err_mass_matched_pile"), 0.1, 1e-12);                    // p = 0
+  EXPECT_NEAR(csv.num(row, "err_mass_matched_pile_height"), 0.0042 / (0.004 * std::cbrt(1.09)) - 1, 1e-12);
+  // The summary names the failed run; the plots hold the reference and k2 only, all finite: speed-up
+  // (reference + k2 wall time; no CPU times recorded) and error (4 panels x 2 points + the mass-matched
+  // floor stress, 2 points).
+  EXPECT_NE(log.find("chen_elliott_k3"), std::string::npos);
+  EXPECT_NE(log.find("failed (exit 3): left out of the plots"), std::string::npos) << log;
+  EXPECT_NE(log.find("cgdem sweep: failed: chen_elliott_k3"), std::string::npos) << log;
+  EXPECT_NE(log.find("wrote speedup.png (2 points)"), std::string::npos) << log;
+  EXPECT_NE(log.find("wrote error.png (10 points)"), std::string::npos) << log;
+  EXPECT_GT(fs::file_size(s / "speedup.png"), 100u);
+  EXPECT_GT(fs::file_size(s / "error.png"), 100u);
+
+  // k2 now exits 0 with a nan main figure: failed too, and no plot has a finite point left.
+  k2.values["pile"] = std::nan("");
+  write_record((records / "chen_elliott_k2.txt").string(), k2);
+  EXPECT_TRUE(std::isnan(read_record((records / "chen_elliott_k2.txt").string()).values.at("pile")));
+  EXPECT_EQ(cgdem(args("")), 1) << slurp(dir / "out.txt");
+  log = slurp(dir / "out.txt");
+  csv = read_csv(s / "sweep.csv");
+  row = csv.find("chen_elliott_k2");
+  EXPECT_EQ(csv.rows[row].at("status"), "failed (nan: pile)");
+  EXPECT_EQ(csv.rows[row].at("exit_code"), "0");
+  EXPECT_EQ(csv.rows[row].at("err_pile"), "");
+  EXPECT_NE(log.find("cgdem sweep: failed: chen_elliott_k2, chen_elliott_k3"), std::string::npos) << log;
+  EXPECT_NE(log.find("speedup.png not written"), std::string::npos) << log;
+  EXPECT_NE(log.find("error.png not written"), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(s / "speedup.png")); // the earlier plots are removed, not left stale
+  EXPECT_FALSE(fs::exists(s / "error.png"));
 }
