@@ -457,7 +457,8 @@ void place_random(const GroupSpec& g, std::size_t gi, std::vector<double> r, Cel
   const double fraction = vol_solid / vol_region;
   const std::string fix =
       std::string("enlarge the region (") + (cyl ? "radius, height" : "lo, hi") +
-      ") or place fewer particles; random placement rarely exceeds a solid fraction of 0.35";
+      ") or place fewer particles; random placement of equal spheres stops near a solid fraction of "
+      "0.29-0.32 (polydisperse: 0.42-0.46), docs/scene_format.md";
   if (fraction > 0.5)
     group_fail(g, gi, "placement",
                std::to_string(g.count) + " particles need a solid fraction of " + num_str(fraction) +

@@ -314,3 +314,15 @@ TEST_F(CliTest, InletBoxTooSmallForItsRateIsReported) {
   EXPECT_NE(r.err.find("warning: inlet of group 'poured' placed"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("enlarge the box"), std::string::npos) << r.err;
 }
+
+// The recipes of docs/recipes.md start and write their results (their full runs make the committed figures).
+TEST_F(CliTest, RecipeScenesRun) {
+  for (const char* scene : {"column_collapse", "hopper_discharge", "drum_dynamic_angle", "pour_heap"}) {
+    SCOPED_TRACE(scene);
+    const std::string path = std::string(CGDEM_SOURCE_DIR) + "/scenes/" + scene + ".yaml";
+    const Result r = cgdem("run '" + path + "' --quiet --set time.end=0.02 --out recipe.h5");
+    EXPECT_EQ(r.code, 0) << r.err;
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+    EXPECT_TRUE(fs::exists(dir / "recipe.h5"));
+  }
+}
