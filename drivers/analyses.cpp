@@ -196,6 +196,7 @@ public:
     const double w = bin_width_ > 0 ? bin_width_ : 4 * max_radius(f);
     const PileFit fit = pile_angle(f, use, cx, cy, floor, w, sectors_, lo_, hi_);
     out[name()] = fit.angle_deg;
+    out[name() + "_stderr"] = fit.angle_stderr_deg;
     out[name() + "_height"] = fit.height;
     out[name() + "_foot_radius"] = fit.foot_radius;
     out[name() + "_r2"] = fit.r2;
@@ -206,7 +207,8 @@ protected:
   // A heap of fixed shape (the same angle): its lengths grow as the cube root of its mass, and so does the
   // number of radial bins of a fixed width; the angle and the fit quality do not depend on the mass.
   std::map<std::string, double> default_mass_exponents() const override {
-    return {{"", 0}, {"_height", 1.0 / 3}, {"_foot_radius", 1.0 / 3}, {"_r2", 0}, {"_bins", 1.0 / 3}};
+    return {{"", 0},    {"_stderr", 0},    {"_height", 1.0 / 3}, {"_foot_radius", 1.0 / 3},
+            {"_r2", 0}, {"_bins", 1.0 / 3}};
   }
 
 private:
@@ -475,24 +477,31 @@ public:
     // frame time counts once (the final evaluation may repeat the last output frame).
     if (in.time >= average_from_ && in.time > last_time_) {
       sum_ += fit.angle_deg;
+      sum_squares_ += fit.angle_deg * fit.angle_deg;
       ++frames_;
       last_time_ = in.time;
     }
     // Not yet defined before the first frame at or after average_from: nan, not 0, so that no plot or
     // sweep reads a zero angle.
-    out[name() + "_mean"] = frames_ > 0 ? sum_ / frames_ : std::numeric_limits<double>::quiet_NaN();
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const double mean = frames_ > 0 ? sum_ / frames_ : nan;
+    out[name() + "_mean"] = mean;
+    // The frame-to-frame spread about that mean (sample standard deviation; nan below two frames).
+    out[name() + "_std"] =
+        frames_ > 1 ? std::sqrt(std::max(0.0, (sum_squares_ - frames_ * mean * mean) / (frames_ - 1))) : nan;
+    out[name() + "_frames"] = double(frames_);
   }
 
 protected:
   // The dynamic angle of a drum of fixed size and speed depends on the fill level only weakly: p = 0.
   std::map<std::string, double> default_mass_exponents() const override {
-    return {{"", 0}, {"_rms", 0}, {"_cells", 0}, {"_mean", 0}};
+    return {{"", 0}, {"_rms", 0}, {"_cells", 0}, {"_mean", 0}, {"_std", 0}, {"_frames", 0}};
   }
 
 private:
   A3 center_{}, axis_{0, 1, 0}, up_{0, 0, 1};
   double cell_ = 0, fraction_ = 0.6, average_from_ = -1;
-  double sum_ = 0, last_time_ = -1;
+  double sum_ = 0, sum_squares_ = 0, last_time_ = -1;
   long frames_ = 0;
 };
 
@@ -547,6 +556,7 @@ public:
     out[name() + "_front"] = fit.front;
     out[name() + "_height"] = fit.height;
     out[name() + "_angle"] = fit.angle_deg;
+    out[name() + "_angle_stderr"] = fit.angle_stderr_deg;
     out[name() + "_r2"] = fit.r2;
     out[name() + "_bins"] = double(fit.bins_used);
   }
@@ -557,7 +567,8 @@ protected:
   // width) ~ mass^(1/2). The front is a coordinate, not a length (the runout is the length); the angle
   // and the fit quality do not depend on the mass.
   std::map<std::string, double> default_mass_exponents() const override {
-    return {{"", 0.5}, {"_front", 0}, {"_height", 0.5}, {"_angle", 0}, {"_r2", 0}, {"_bins", 0.5}};
+    return {{"", 0.5},  {"_front", 0}, {"_height", 0.5}, {"_angle", 0}, {"_angle_stderr", 0},
+            {"_r2", 0}, {"_bins", 0.5}};
   }
 
 private:
@@ -643,6 +654,11 @@ void run_analyses(std::vector<std::unique_ptr<Analysis>>& analyses, const Analys
 
 // ---- building blocks ----
 
+// The standard error of atan(-slope), in degrees: d(atan s)/ds = 1 / (1 + s^2).
+static double angle_stderr_deg(const LineFit& line) {
+  return line.slope_stderr / (1 + line.slope * line.slope) * 180 / kPi;
+}
+
 LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
   LineFit fit;
   fit.n = std::min(x.size(), y.size());
@@ -661,6 +677,8 @@ LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
   const double ss_tot = (b.array() - mean).square().sum();
   const double ss_res = (a * c - b).squaredNorm();
   fit.r2 = ss_tot > 0 ? 1 - ss_res / ss_tot : 1;
+  const double sxx = (a.col(1).array() - a.col(1).mean()).square().sum();
+  if (fit.n > 2 && sxx > 0) fit.slope_stderr = std::sqrt(ss_res / double(fit.n - 2) / sxx);
   return fit;
 }
 
@@ -720,6 +738,7 @@ PileFit pile_angle(const FrameData& f, const std::vector<char>& use, double cx, 
   fit.bins_used = line.n;
   if (line.n < 2) return fit;
   fit.angle_deg = std::atan(-line.slope) * 180 / kPi;
+  fit.angle_stderr_deg = angle_stderr_deg(line);
   fit.r2 = line.r2;
   fit.foot_radius = line.slope < 0 ? -line.intercept / line.slope : 0;
   return fit;
@@ -774,6 +793,7 @@ PlanarFlowFit planar_flow(const FrameData& f, const std::vector<char>& use, int 
   fit.bins_used = line.n;
   if (line.n < 2) return fit;
   fit.angle_deg = std::atan(-line.slope) * 180 / kPi;
+  fit.angle_stderr_deg = angle_stderr_deg(line);
   fit.r2 = line.r2;
   return fit;
 }

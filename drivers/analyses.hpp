@@ -81,6 +81,7 @@ void run_analyses(std::vector<std::unique_ptr<Analysis>>& analyses, const Analys
 
 struct LineFit {
   double slope = 0, intercept = 0, r2 = 0;
+  double slope_stderr = std::numeric_limits<double>::quiet_NaN(); // from the residuals; nan for n < 3
   std::size_t n = 0;
 };
 // Ordinary least squares y = intercept + slope x (Eigen); n < 2 gives a zero fit with n set.
@@ -97,6 +98,8 @@ PlaneFit fit_plane(const std::vector<std::array<double, 3>>& points);
 
 struct PileFit {
   double angle_deg = 0, height = 0, foot_radius = 0, r2 = 0;
+  double angle_stderr_deg =
+      std::numeric_limits<double>::quiet_NaN(); // the slope's standard error, as an angle
   std::size_t bins_used = 0;
 };
 // Pile on a floor at z = floor, around the vertical axis through (cx, cy). Particles `use` (all when empty)
@@ -124,6 +127,7 @@ struct PlanarFlowFit {
   double front = std::numeric_limits<double>::quiet_NaN();     // front position on the flow axis, m
   double height = std::numeric_limits<double>::quiet_NaN();    // highest surface height above the floor, m
   double angle_deg = std::numeric_limits<double>::quiet_NaN(); // free-surface angle beyond the peak
+  double angle_stderr_deg = std::numeric_limits<double>::quiet_NaN(); // its standard error (3+ flank bins)
   double r2 = std::numeric_limits<double>::quiet_NaN();
   std::size_t bins_used = 0;
 };

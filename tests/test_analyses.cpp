@@ -46,6 +46,12 @@ TEST(Analyses, LineFitExact) {
   EXPECT_NEAR(f.slope, 2, 1e-12);
   EXPECT_NEAR(f.intercept, 1, 1e-12);
   EXPECT_NEAR(f.r2, 1, 1e-12);
+  EXPECT_NEAR(f.slope_stderr, 0, 1e-12);
+  // The textbook case: y = 2.2 + 0.6 x, residual sum of squares 2.4, Sxx = 10: SE = sqrt(2.4 / 3 / 10).
+  const LineFit g = fit_line({1, 2, 3, 4, 5}, {2, 4, 5, 4, 5});
+  EXPECT_NEAR(g.slope, 0.6, 1e-12);
+  EXPECT_NEAR(g.slope_stderr, std::sqrt(0.08), 1e-12);
+  EXPECT_TRUE(std::isnan(fit_line({0, 1}, {0, 1}).slope_stderr)); // two points: no residual to estimate
 }
 
 TEST(Analyses, ConeOfKnownAngle) {
@@ -56,6 +62,10 @@ TEST(Analyses, ConeOfKnownAngle) {
     EXPECT_NEAR(fit.height, 0.01, 0.0003);
     EXPECT_GE(fit.bins_used, 5u);
     EXPECT_GT(fit.r2, 0.98);
+    // A cone of spheres fits its angle to within a fraction of a degree, and says so.
+    EXPECT_GT(fit.angle_stderr_deg, 0);
+    EXPECT_LT(fit.angle_stderr_deg, 1.0);
+    EXPECT_LT(std::fabs(fit.angle_deg - deg), 4 * fit.angle_stderr_deg + 0.3);
   }
 }
 
@@ -185,6 +195,8 @@ analyses: [{type: drum_angle, name: a, drum: drum, cell_width: 0.0012, average_f
   EXPECT_NEAR(a20, 20, 1.0);
   EXPECT_NEAR(a30, 30, 1.0);
   EXPECT_DOUBLE_EQ(out.at("a_mean"), 0.5 * (a20 + a30));
+  EXPECT_NEAR(out.at("a_std"), std::fabs(a30 - a20) / std::sqrt(2.0), 1e-9); // two frames
+  EXPECT_EQ(out.at("a_frames"), 2);
   // A sweep compares and plots the mean, not the angle of whichever frame the run ends on.
   EXPECT_EQ(list[0]->metric(), "a_mean");
 }
