@@ -48,19 +48,19 @@ struct ContactSpec {
   std::string jkr_separation = "delta_s"; // delta_s | pull_off | contact_loss
   // Lever arm of tangential forces (and the contact point of the slip velocity): R - overlap/2
   // (contact_point) or R (radius, which makes Chen-Elliott's torque scaling k^4 exact); auto takes radius
-  // under chen_elliott and contact_point otherwise (resolved_lever_arm in core/materials.hpp).
+  // under chen_elliott and contact_point otherwise (resolved_lever_arm in setup/materials.hpp).
   std::string lever_arm = "auto"; // auto | contact_point | radius
-  // How the damping coefficient follows from the restitution (core/restitution.hpp): restitution (the
+  // How the damping coefficient follows from the restitution (setup/restitution.hpp): restitution (the
   // rebound of an isolated collision equals the input e for every law) or beta_formula (Tsuji's
   // 2 sqrt(5/6) beta(e) for Hertz and JKR, as LIGGGHTS and EDEM do).
   std::string damping = "restitution"; // restitution | beta_formula
   // Adhesive pairs (JKR, DMT) under damping: restitution: the impact speed, in sticking velocities
-  // sqrt(2 W_s / m*), at which an isolated collision rebounds with e (core/restitution.hpp). 0: the limit of
+  // sqrt(2 W_s / m*), at which an isolated collision rebounds with e (setup/restitution.hpp). 0: the limit of
   // impact speeds far above it (the damping of the non-adhesive law).
   double restitution_speed_ratio = 0;
   // Direct force scaling wrapping the whole law (models/scaling/direct_force_scaling.hpp): none |
   // hu_method1 | hu_method2 | hu_method3 | sakai. Not a YAML key: derived from the groups' coarse_grain.law
-  // by effective_contact() (core/scaling.hpp); the compiled name gets "@<method>".
+  // by effective_contact() (setup/scaling.hpp); the compiled name gets "@<method>".
   std::string scaling = "none";
 };
 

@@ -11,9 +11,9 @@
 #include <sstream>
 #include <unistd.h>
 #include "core/checkpoint.hpp"
-#include "core/materials.hpp"
+#include "setup/materials.hpp"
 #include "core/result_writer.hpp"
-#include "core/time_step.hpp"
+#include "setup/time_step.hpp"
 #include "drivers/analyses.hpp"
 #include "drivers/cli.hpp"
 #include "drivers/engine_setup.hpp"

@@ -1,8 +1,8 @@
 #include "drivers/engine_setup.hpp"
 #include <algorithm>
 #include <cmath>
-#include "core/materials.hpp"
-#include "core/scaling.hpp"
+#include "setup/materials.hpp"
+#include "setup/scaling.hpp"
 
 namespace cgdem {
 
@@ -41,7 +41,7 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
     cut(q.material), cut(q.group);
     q.pending = 0;
   }
-  // Coarse-graining (core/scaling.hpp): pair tables over material slots (material, factor), parameter
+  // Coarse-graining (setup/scaling.hpp): pair tables over material slots (material, factor), parameter
   // laws applied per pair with the pair factor; particles use their group's slot, walls the factor-1 slots.
   check_scaling(scene);
   ScaledTables tables = scaled_tables(scene);

@@ -1,7 +1,7 @@
 #pragma once
 // Scene (validated) + particles -> EngineConfig: pair tables, wall parts, time step and skin.
-#include "core/engine_config.hpp"
-#include "core/time_step.hpp"
+#include "setup/engine_config.hpp"
+#include "setup/time_step.hpp"
 
 namespace cgdem {
 

@@ -3,7 +3,7 @@
 #include "models/component_lists.hpp"
 
 #include <yaml-cpp/yaml.h>
-#include "core/scaling.hpp"
+#include "setup/scaling.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -1138,7 +1138,7 @@ struct Parser {
     }
   }
 
-  // The scaling law against the contact law (core/scaling.hpp: check_scaling), reported at the law's key.
+  // The scaling law against the contact law (setup/scaling.hpp: check_scaling), reported at the law's key.
   void check_scaling_for_laws() {
     try {
       check_scaling(scene);

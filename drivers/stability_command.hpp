@@ -14,9 +14,9 @@
 #include <limits>
 #include <string>
 #include <vector>
-#include "core/engine_config.hpp"
+#include "setup/engine_config.hpp"
 #include "core/scene.hpp"
-#include "core/time_step.hpp"
+#include "setup/time_step.hpp"
 #include "kernels/engine.hpp"
 
 namespace cgdem {

@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 #include <vector>
-#include "core/engine_config.hpp"
+#include "setup/engine_config.hpp"
 #include "core/frame.hpp"
 
 namespace cgdem {

@@ -3,7 +3,7 @@
 //   F_n = 4/3 E* sqrt(R*) delta^1.5 + c_n delta_dot,  c_n = eta sqrt(m* k_n),  k_n = 2 E* a,  a = sqrt(R*
 //   delta)
 // held at F_n >= 0, and the Mindlin tangential stiffness k_t = 8 G* a with c_t = eta sqrt(m* k_t). eta is the
-// pair's damping coefficient (core/restitution.hpp: solved for this clamped form, or Tsuji's 2 sqrt(5/6)
+// pair's damping coefficient (setup/restitution.hpp: solved for this clamped form, or Tsuji's 2 sqrt(5/6)
 // |beta| with contact.damping: beta_formula).
 #include "models/contact_law.hpp"
 

@@ -17,7 +17,7 @@
 // Damping (Chen eqs 20-23): c_n = eta sqrt(S_n m*), S_n = 2 E* a; tangential stiffness k_t = 8 G* a with
 // c_t = eta sqrt(k_t m*). The total force is not clamped: the JKR force is attractive by nature, and the
 // damper is part of it; eta = 2 sqrt(5/6) |beta| gives the input restitution exactly for this unclamped
-// form in the limit of impact speeds far above the sticking velocity (core/restitution.hpp).
+// form in the limit of impact speeds far above the sticking velocity (setup/restitution.hpp).
 // Coulomb load (Thornton & Yin): |F_n,JKR + 2 F_c| = |4/9 x^3 - 4/3 x^1.5 + 2| F_c, elastic part only.
 // `stiffness` reports S_n = 2 E* a, the Hertzian stiffness of the current contact radius (the one Chen's
 // damping uses), rather than the tangent dF/d(delta), which diverges at S.

@@ -1,6 +1,6 @@
 #pragma once
 // Linear spring-dashpot (Cundall-Strack): F_n = k_n delta + c_n delta_dot, c_n = eta sqrt(m* k_n) with
-// eta = 2 |beta| (core/restitution.hpp), so the restitution equals the input exactly and
+// eta = 2 |beta| (setup/restitution.hpp), so the restitution equals the input exactly and
 // t_c = pi / sqrt(k_n/m* - (c_n / 2m*)^2).
 // Tangential stiffness k_t (2/7 k_n when the scene leaves it out) with the same damping ratio.
 #include "models/contact_law.hpp"

@@ -1,6 +1,6 @@
 #pragma once
 // Mixed parameters of one material pair (particle-particle or particle-wall), precomputed on the host
-// (core/materials.cpp) into an ntypes x ntypes table. Every contact component reads what it needs from
+// (setup/materials.cpp) into an ntypes x ntypes table. Every contact component reads what it needs from
 // here; a component whose parameters are zero contributes nothing (e.g. gamma = 0 switches adhesion off
 // for one pair while the scene's law keeps it for others).
 #include "core/types.hpp"
@@ -12,7 +12,7 @@ struct PairParameters {
   Real E_eff = 0;
   Real G_eff = 0;
   // Restitution of the pair and the damping coefficient eta >= 0 that realises it for the scene's normal law
-  // (core/restitution.hpp): c_n = eta sqrt(m* k_ref), k_ref the law's reference stiffness, and
+  // (setup/restitution.hpp): c_n = eta sqrt(m* k_ref), k_ref the law's reference stiffness, and
   // c_t = eta sqrt(m* k_t).
   Real restitution = 1;
   Real damping = 0;
@@ -41,7 +41,7 @@ struct PairParameters {
   Real liquid_volume = 0;   // per bridge if > 0 ...
   Real liquid_fraction = 0; // ... else V_liq = liquid_fraction * (V_i + V_j) (Hu eq 42: 0.083 * 0.05)
   Real min_separation = 0;  // S_min
-  // Coarse-graining factor of the pair (core/scaling.cpp: pair_scale_factor), 1 for originals. Read on the
+  // Coarse-graining factor of the pair (setup/scaling.cpp: pair_scale_factor), 1 for originals. Read on the
   // host only, by the direct force scaling wrappers' interaction_range (models/scaling/); the device
   // functors take the factors from PairState::scale_i/scale_j.
   Real coarse_grain_factor = 1;

@@ -7,7 +7,7 @@
 #include <Kokkos_Core.hpp>
 #include <cstring>
 #include <map>
-#include "core/time_step.hpp"
+#include "setup/time_step.hpp"
 #include "drivers/engine_setup.hpp"
 #include "drivers/particle_generation.hpp"
 #include "drivers/scene_parser.hpp"

@@ -33,8 +33,8 @@ mkdir -p "$out/obj"
 kokkos="$repo/third_party/kokkos-install"
 flags=(-std=c++17 -g -O1 -fno-omit-frame-pointer -fsanitize=fuzzer-no-link,address,undefined -fopenmp
        -I"$repo" -I"$kokkos/include" $(pkg-config --cflags hdf5 2>/dev/null || echo -I/usr/include/hdf5/serial))
-sources=(drivers/scene_parser.cpp drivers/particle_generation.cpp drivers/preflight.cpp core/scaling.cpp
-         core/materials.cpp core/restitution.cpp core/checkpoint.cpp core/result_writer.cpp
+sources=(drivers/scene_parser.cpp drivers/particle_generation.cpp drivers/preflight.cpp setup/scaling.cpp
+         setup/materials.cpp setup/restitution.cpp core/checkpoint.cpp core/result_writer.cpp
          tests/fuzz/in_process_probe.cpp)
 objects=()
 for s in "${sources[@]}"; do

@@ -26,7 +26,7 @@ for f in "$dir"/crash-* "$dir"/oom-* "${timeouts[@]:0:$limit}"; do
           head -n 1 | sed -E -e 's/^ +#[0-9]+ 0x[0-9a-f]+ (in )?//' -e 's/\(BuildId.*//' -e 's/\(\/[^ ]*\/(lib[a-z0-9_.-]+)\+0x[0-9a-f]+\)/[\1]/' -e 's|'"$repo"'/||' |
           cut -c1-110)
   case "$where" in
-    *core/* | *drivers/* | *models/* | *kernels/*) owner=cgdem ;;
+    *core/* | *setup/* | *drivers/* | *models/* | *kernels/*) owner=cgdem ;;
     *libhdf5* | H5*) owner=libhdf5 ;;
     *yaml*) owner=yaml-cpp ;;
     *) owner=other ;;

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "core/restitution.hpp"
+#include "setup/restitution.hpp"
 #include "models/capillary_bridge.hpp"
 #include "models/contact_law.hpp"
 #include "models/dmt.hpp"

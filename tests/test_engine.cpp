@@ -11,7 +11,7 @@
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
 #include "kernels/neighbor_list.hpp"
-#include "core/materials.hpp"
+#include "setup/materials.hpp"
 #include "kernels/contact_forces.hpp"
 #include "models/hertz_tsuji.hpp"
 #include "models/mindlin_tangential.hpp"

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <set>
 #include <sstream>
-#include "core/time_step.hpp"
+#include "setup/time_step.hpp"
 #include "drivers/commands.hpp"
 #include "drivers/scene_parser.hpp"
 #include "models/component_lists.hpp"

@@ -1,9 +1,9 @@
-// Mixing of materials into pair parameters (core/materials.cpp, docs/physics.md section 1): Thakur's EEPA
+// Mixing of materials into pair parameters (setup/materials.cpp, docs/physics.md section 1): Thakur's EEPA
 // values per contact, adhesion off on walls when asked, the damping rule and the lever arm in use.
 #include <gtest/gtest.h>
 #include <cmath>
-#include "core/materials.hpp"
-#include "core/restitution.hpp"
+#include "setup/materials.hpp"
+#include "setup/restitution.hpp"
 #include "models/linear_eepa.hpp"
 #include "tests/test_support.hpp"
 

@@ -1,11 +1,11 @@
-// Restitution as asked (core/restitution.hpp, docs/physics.md section 2): the damping coefficient of every
+// Restitution as asked (setup/restitution.hpp, docs/physics.md section 2): the damping coefficient of every
 // normal law makes an isolated collision rebound with the input e, particle on particle and particle on a
 // wall; the beta formula stays available and reproduces its known Hertz offsets.
 #include <gtest/gtest.h>
 #include <cmath>
 #include <cstdio>
-#include "core/materials.hpp"
-#include "core/restitution.hpp"
+#include "setup/materials.hpp"
+#include "setup/restitution.hpp"
 #include "tests/test_support.hpp"
 
 using namespace cgdem;
@@ -176,7 +176,7 @@ TEST(Restitution, CohesiveLawsApproachTheInputFarAboveStickingVelocity) {
       }
 }
 
-// The adhesive collision in natural units (core/restitution.hpp) against what it must give without a damper:
+// The adhesive collision in natural units (setup/restitution.hpp) against what it must give without a damper:
 // JKR separating at S loses exactly W_s (e = sqrt(1 - 1/s^2) at s v_stick), at the pull-off point C the work
 // from A to C only, on losing contact (Hu's rule) nothing; DMT without damper is conservative. The solved
 // coefficient gives e back.

@@ -3,8 +3,8 @@
 // functor called directly), the tangential displacement rule, the reach, the time-step rules and names.
 #include <gtest/gtest.h>
 #include <cmath>
-#include "core/materials.hpp"
-#include "core/scaling.hpp"
+#include "setup/materials.hpp"
+#include "setup/scaling.hpp"
 #include "drivers/resolution_check.hpp"
 #include "drivers/scene_parser.hpp"
 #include "models/capillary_bridge.hpp"

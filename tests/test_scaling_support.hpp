@@ -6,8 +6,8 @@
 #include <cmath>
 #include <string>
 #include <vector>
-#include "core/materials.hpp"
-#include "core/scaling.hpp"
+#include "setup/materials.hpp"
+#include "setup/scaling.hpp"
 #include "models/jkr_relation.hpp"
 #include "tests/test_support.hpp"
 
@@ -67,7 +67,7 @@ inline double wall_tangential_stiffness(const ImpactSpec& c, double delta) {
   const ScalingLaw law = scaling_law(c.law);
   const double k = law == ScalingLaw::None ? 1.0 : c.k;
   const bool direct = is_direct(law);
-  // As core/scaling.cpp builds the wall table: the mixed pair, scaled as a whole for a parameter law.
+  // As setup/scaling.cpp builds the wall table: the mixed pair, scaled as a whole for a parameter law.
   const models::PairParameters mixed = mix_pair(m, w, true, ContactSpec{});
   const models::PairParameters p = direct ? mixed : scale_pair(mixed, law, k);
   const double R = direct ? c.r1 : k * c.r1, d = direct ? delta / k : delta;

@@ -575,7 +575,7 @@ TEST(StabilityHardCases, JkrThreeOrdersOfSurfaceEnergyAtDefaultStep) {
     EXPECT_EQ(b.snap_off, 1) << g;
     // Energy balance within 1% of W_s once v dt <= 2e-3 u.
     EXPECT_LT(std::fabs(err_b), 0.01) << g;
-    // At the auto step with time.resolve_adhesion (the scene below sets it; core/time_step.cpp), which
+    // At the auto step with time.resolve_adhesion (the scene below sets it; setup/time_step.cpp), which
     // resolves the snap-in/snap-off force jumps. Without it, see the next test.
     EXPECT_LT(std::fabs(err_a), 0.01) << g;
   }

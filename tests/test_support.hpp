@@ -3,7 +3,7 @@
 #include <cmath>
 #include <memory>
 #include <random>
-#include "core/time_step.hpp"
+#include "setup/time_step.hpp"
 #include "drivers/engine_setup.hpp"
 #include "kernels/engine.hpp"
 

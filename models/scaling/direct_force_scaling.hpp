@@ -5,7 +5,7 @@
 // (same interface: history_size, interaction_range, const device call operator).
 //
 // Original state from the coarse one, with l the pair's factor (l_i = l_j = l: exact; mixed factors use
-// l = 2 l_i l_j / (l_i + l_j), the wall pair l = l_i, the rule of core/scaling.hpp):
+// l = 2 l_i l_j / (l_i + l_j), the wall pair l = l_i, the rule of setup/scaling.hpp):
 //   v_O = v_S (overlap rate, tangential contact velocity unchanged), omega_O = l omega_S,
 //   R_O = R_S / l (R_i, R_j, R*), m*_O = m*_S / l^3, V_O = V_S / l^3 (liquid bridge volumes),
 //   overlap / separation: delta_O = delta_S / l^overlap_power (geometric similarity for Hu methods 1 and 3,
@@ -25,7 +25,7 @@
 
 namespace cgdem::models::scaling {
 
-// Exponents per method (the host mirror is cgdem::direct_exponents in core/scaling.cpp).
+// Exponents per method (the host mirror is cgdem::direct_exponents in setup/scaling.cpp).
 struct HuMethod1 { // recommended by Hu: geometric similarity, l^2
   static constexpr const char* name = "hu_method1";
   static constexpr int overlap_power = 1, force_power = 2, adhesion_power = 2, torque_power = 2;
@@ -105,7 +105,7 @@ struct DirectForceScaling {
   KOKKOS_INLINE_FUNCTION static void flip_history(Real* h) { Law::flip_history(h); }
 
   // Coarse reach: the original pair's (radii / l) stretched back by l^overlap_power. l is the pair table's
-  // coarse_grain_factor (core/scaling.cpp); the Simulation takes the maximum over all table entries.
+  // coarse_grain_factor (setup/scaling.cpp); the Simulation takes the maximum over all table entries.
   static Real interaction_range(const PairParameters& p, Real R_i, Real R_j) {
     const Real l = p.coarse_grain_factor > 0 ? p.coarse_grain_factor : 1;
     const Real range = Law::interaction_range(p, R_i / l, R_j > 0 ? R_j / l : R_j);

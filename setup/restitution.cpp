@@ -1,4 +1,4 @@
-#include "core/restitution.hpp"
+#include "setup/restitution.hpp"
 #include <cmath>
 #include <map>
 #include <mutex>

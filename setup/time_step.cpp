@@ -1,10 +1,10 @@
-#include "core/time_step.hpp"
+#include "setup/time_step.hpp"
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
-#include "core/materials.hpp"
-#include "core/scaling.hpp"
+#include "setup/materials.hpp"
+#include "setup/scaling.hpp"
 
 namespace cgdem {
 

@@ -1,7 +1,7 @@
-#include "core/scaling.hpp"
+#include "setup/scaling.hpp"
 #include <cmath>
 #include <stdexcept>
-#include "core/materials.hpp"
+#include "setup/materials.hpp"
 
 namespace cgdem {
 

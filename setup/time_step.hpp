@@ -2,7 +2,7 @@
 // Time-step estimate (docs/physics.md 5): the stable limit is the smaller of 0.3 Rayleigh times of
 // the smallest particle of each material and a tenth of the shortest contact time (Hertz at the
 // scene's characteristic impact speed, or the linear / EEPA spring period).
-// Coarse-graining (core/scaling.hpp, docs/coarse_graining.md): chen_elliott takes the ORIGINAL particles'
+// Coarse-graining (setup/scaling.hpp, docs/coarse_graining.md): chen_elliott takes the ORIGINAL particles'
 // limit (contact time invariant under the law); hu_method1 l times the original's (Hu eqs 38-41); every
 // other law the limit of the scaled contact (parameter laws: the scaled parameters on the coarse particles;
 // hu_method2/3 and sakai: the equivalent coarse Hertz modulus E* l^(f - 0.5 - 1.5 o) or spring k l^(f - o)

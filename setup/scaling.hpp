@@ -7,7 +7,7 @@
 // functor (models/scaling/direct_force_scaling.hpp) that evaluates the original pair and scales its force.
 //
 // Pair rule (mixed factors and walls): the pair's parameters are mixed from the two ORIGINAL materials as
-// usual (core/materials.cpp), then scaled as a contact with the pair factor
+// usual (setup/materials.cpp), then scaled as a contact with the pair factor
 //   k_ij = 2 k_i k_j / (k_i + k_j)  (particle-particle: the ratio R*_coarse / R*_original for equal sizes),
 //   k_iw = k_i                       (particle-wall: R* = R_i; the wall itself is never scaled).
 // Equal factors give exactly the law applied to each material and then mixed (compliances add, gamma is a

@@ -1,6 +1,6 @@
-#include "core/materials.hpp"
+#include "setup/materials.hpp"
 #include <cmath>
-#include "core/restitution.hpp"
+#include "setup/restitution.hpp"
 #include "models/jkr_relation.hpp"
 
 namespace cgdem {
@@ -22,7 +22,7 @@ double damping_coefficient(double restitution, const ContactSpec& contact, doubl
   if (contact.normal == "linear" || contact.normal == "eepa") return -2 * beta; // exact for a linear spring
   if (contact.damping == "beta_formula") return -2 * std::sqrt(5.0 / 6.0) * beta;
   const bool jkr = contact.normal == "jkr" && surface_energy > 0;
-  // Adhesive pairs rebound with e at the impact speed the scene names (core/restitution.hpp).
+  // Adhesive pairs rebound with e at the impact speed the scene names (setup/restitution.hpp).
   if (contact.restitution_speed_ratio > 0 && (jkr || (contact.adhesion == "dmt" && surface_energy > 0))) {
     const AdhesiveCollision law = !jkr                                   ? AdhesiveCollision::Dmt
                                   : contact.jkr_separation == "pull_off" ? AdhesiveCollision::JkrPullOff
