@@ -45,6 +45,21 @@ struct ContactForces {
     return {rows[0][l], rows[1][l], rows[2][l]};
   }
 
+  // A batch: the pairs (owner i, partner j, slot s), all of one pair of materials (a pair of another starts
+  // a new batch) so that the law's parameters are the same in every lane, and what the law needs of them,
+  // copied in by the list's walk: the separation as the list saw it, the relative velocity, spins, radii,
+  // masses, scale factors and the slot's history. The lanes then read only these rows, which the compiler
+  // loads as vectors (gathering from the particle store inside the loop it does not vectorize). At class
+  // scope: CUDA's device lambdas take no function-local types as parameters.
+  struct PairBatch {
+    int i[kLanes], j[kLanes], slot[kLanes];
+    int material_i = 0, material_j = 0;
+    LaneRows d, dv, wi, wj;
+    Real ri[kLanes], rj[kLanes], mi[kLanes], mj[kLanes], scale_i[kLanes], scale_j[kLanes];
+    Real h[H > 0 ? H : 1][kLanes];
+    int n = 0;
+  };
+
   // How the blocks share the threads. Both give every particle its terms in the same order (colour, then
   // the block's own order), so the same bits.
   //   by_colour: a colour's blocks in parallel, then a barrier before the next colour. Portable; but a
@@ -106,19 +121,6 @@ struct ContactForces {
     // perf/README.md). IEEE arithmetic is lane-wise exact and there is no fused multiply-add, so a lane
     // gives bitwise what the same law gives alone: the batching changes no result but the order in which
     // a particle's sum receives its terms, which is fixed by the block's order on every backend.
-    // A batch: the pairs (owner i, partner j, slot s), all of one pair of materials (a pair of another starts
-    // a new batch) so that the law's parameters are the same in every lane, and what the law needs of them,
-    // copied in by the list's walk: the separation as the list saw it, the relative velocity, spins, radii,
-    // masses, scale factors and the slot's history. The lanes then read only these rows, which the compiler
-    // loads as vectors (gathering from the particle store inside the loop it does not vectorize).
-    struct PairBatch {
-      int i[kLanes], j[kLanes], slot[kLanes];
-      int material_i = 0, material_j = 0;
-      LaneRows d, dv, wi, wj;
-      Real ri[kLanes], rj[kLanes], mi[kLanes], mj[kLanes], scale_i[kLanes], scale_j[kLanes];
-      Real h[H > 0 ? H : 1][kLanes];
-      int n = 0;
-    };
     // Evaluate a full or partly full batch and add each lane's force and torque to its two particles in lane
     // order. A partly full batch's spare lanes repeat lane 0 (their results are dropped), so the loop always
     // runs kLanes wide.
@@ -190,7 +192,7 @@ struct ContactForces {
       }
       for (int l = 0; l < b.n; ++l) {
         const int i = b.i[l], j = b.j[l];
-        if constexpr (H > 0)
+        if (H > 0) // plain: CUDA device lambdas cannot first capture (history_row) inside `if constexpr`
           for (int k = 0; k < H; ++k)
             history_row(b.slot[l])[k] = static_cast<ForceReal>(b.h[k][l]);
         const Vec3 f = lane(out_force, l);
@@ -250,7 +252,7 @@ struct ContactForces {
         if (dist2 >= reach_ij * reach_ij || dist2 == 0) {
           // Out of reach of every interaction: the pair's history (if any) starts over. Most listed
           // pairs are not touching and already zero: read first, write only when needed.
-          if constexpr (H > 0)
+          if (H > 0) // plain, as above
             for (int k = 0; k < H; ++k)
               if (history_row(s)[k] != 0) history_row(s)[k] = 0;
           continue;

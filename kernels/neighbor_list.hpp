@@ -18,15 +18,82 @@
 
 namespace cgdem::kernels {
 
+// Visits the partners j > i of particle i in deterministic order (the 27 stencil cells in fixed order, a
+// cell's particles in sorted order): f(j, dist2) for each partner inside R_i + R_j + extra_cutoff, with
+// their squared separation as the force pass computes it. A functor, not a generic lambda: CUDA's device
+// lambdas cannot be generic.
+template <class PositionView, class RadiusView>
+struct PartnerVisitor {
+  Domain domain;
+  CellGrid grid;
+  PositionView position;
+  RadiusView radius;
+  Kokkos::View<const int*, typename PositionView::memory_space> cell_of, start, order;
+  Real extra_cutoff;
+
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void operator()(int i, F&& f) const {
+    const Vec3 xi{position(i, 0), position(i, 1), position(i, 2)};
+    const Real ri = radius(i);
+    const int c = cell_of(i);
+    const int cx = c % grid.dims[0], cy = (c / grid.dims[0]) % grid.dims[1],
+              cz = c / (grid.dims[0] * grid.dims[1]);
+    for (int dz = -1; dz <= 1; ++dz) {
+      int z = cz + dz;
+      if (z < 0 || z >= grid.dims[2]) {
+        if (!domain.periodic[2]) continue;
+        z = (z + grid.dims[2]) % grid.dims[2];
+      }
+      for (int dy = -1; dy <= 1; ++dy) {
+        int y = cy + dy;
+        if (y < 0 || y >= grid.dims[1]) {
+          if (!domain.periodic[1]) continue;
+          y = (y + grid.dims[1]) % grid.dims[1];
+        }
+        for (int dx = -1; dx <= 1; ++dx) {
+          int x = cx + dx;
+          if (x < 0 || x >= grid.dims[0]) {
+            if (!domain.periodic[0]) continue;
+            x = (x + grid.dims[0]) % grid.dims[0];
+          }
+          const int cell = x + grid.dims[0] * (y + grid.dims[1] * z);
+          for (int k = start(cell); k < start(cell + 1); ++k) {
+            const int j = order(k);
+            if (j <= i) continue;
+            const Vec3 d = domain.minimum_image(Vec3{position(j, 0), position(j, 1), position(j, 2)} - xi);
+            const Real cut = ri + radius(j) + extra_cutoff, dist2 = norm2(d);
+            if (dist2 < cut * cut) f(j, dist2);
+          }
+        }
+      }
+    }
+  }
+};
+
+// A block's particles in cell order (z, y, then x; a cell's in index order): each z layer of the block
+// (whole x rows) is one contiguous run [from, to) of the bins, passed to f(from, to).
+template <class BoxView, class StartView>
+struct BlockRuns {
+  BoxView box;
+  StartView start;
+  int nx, ny;
+
+  template <class F>
+  KOKKOS_INLINE_FUNCTION void operator()(int blk, F&& f) const {
+    for (int z = box(blk, 2); z < box(blk, 3); ++z)
+      f(start(nx * (box(blk, 0) + ny * z)), start(nx * (box(blk, 1) + ny * z)));
+  }
+};
+
 template <class ExecSpace, class Law>
 struct NeighborList {
   using Mem = typename ExecSpace::memory_space;
   static constexpr int H = Law::history_size;
   using HistoryView = Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>;
 
-  Kokkos::View<int*, Mem> offsets;         // n + 1
-  Kokkos::View<int*, Mem> neighbors;       // capacity >= offsets(n); every entry > its owner's index
-  HistoryView history;                     // capacity x H (no columns, no storage, when the law keeps none)
+  Kokkos::View<int*, Mem> offsets;   // n + 1
+  Kokkos::View<int*, Mem> neighbors; // capacity >= offsets(n); every entry > its owner's index
+  HistoryView history;               // capacity x H (no columns, no storage, when the law keeps none)
   // Per slot, how far the pair was beyond the law's reach at the build (surface gap minus reach, rounded
   // down), or -1 for a pair within reach then. Two particles that each moved at most D since the build
   // come no closer than that gap - 2 D: while it stays positive the pair exerts nothing and its history
@@ -80,45 +147,9 @@ struct NeighborList {
     const auto order = bins.order;
     const auto offs = offsets;
 
-    // Visit the partners j > i of particle i in deterministic order (27 stencil cells in fixed order,
-    // a cell's particles in sorted order); f(j, dist2) is called for partners inside R_i + R_j +
-    // extra_cutoff, with their squared separation (as the force pass computes it).
-    auto visit = [=] KOKKOS_FUNCTION(int i, auto&& f) {
-      const Vec3 xi{position(i, 0), position(i, 1), position(i, 2)};
-      const Real ri = radius(i);
-      const int c = cell_of(i);
-      const int cx = c % grid.dims[0], cy = (c / grid.dims[0]) % grid.dims[1],
-                cz = c / (grid.dims[0] * grid.dims[1]);
-      for (int dz = -1; dz <= 1; ++dz) {
-        int z = cz + dz;
-        if (z < 0 || z >= grid.dims[2]) {
-          if (!domain.periodic[2]) continue;
-          z = (z + grid.dims[2]) % grid.dims[2];
-        }
-        for (int dy = -1; dy <= 1; ++dy) {
-          int y = cy + dy;
-          if (y < 0 || y >= grid.dims[1]) {
-            if (!domain.periodic[1]) continue;
-            y = (y + grid.dims[1]) % grid.dims[1];
-          }
-          for (int dx = -1; dx <= 1; ++dx) {
-            int x = cx + dx;
-            if (x < 0 || x >= grid.dims[0]) {
-              if (!domain.periodic[0]) continue;
-              x = (x + grid.dims[0]) % grid.dims[0];
-            }
-            const int cell = x + grid.dims[0] * (y + grid.dims[1] * z);
-            for (int k = start(cell); k < start(cell + 1); ++k) {
-              const int j = order(k);
-              if (j <= i) continue;
-              const Vec3 d = domain.minimum_image(Vec3{position(j, 0), position(j, 1), position(j, 2)} - xi);
-              const Real cut = ri + radius(j) + extra_cutoff, dist2 = norm2(d);
-              if (dist2 < cut * cut) f(j, dist2);
-            }
-          }
-        }
-      }
-    };
+    // Visit the partners j > i of particle i in deterministic order (PartnerVisitor).
+    const PartnerVisitor<PositionView, RadiusView> visit{domain,  grid,  position, radius,
+                                                         cell_of, start, order,    extra_cutoff};
 
     Kokkos::parallel_for(
         "cgdem::kernels::nl_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
@@ -174,7 +205,7 @@ struct NeighborList {
             neigh(b) = j;
             gaps(b) = g;
           }
-          if constexpr (H > 0) {
+          if (H > 0) { // a plain if: CUDA's device lambdas cannot first capture inside `if constexpr`
             // Carry each pair's history over from the previous list, where the pair was kept under the
             // particle whose OLD index was lower; a new pair (or one whose history was zero) starts at zero.
             const int oi = old_index(i);
@@ -191,7 +222,7 @@ struct NeighborList {
                   }
               // A pair beyond reach now starts over, as the force pass would make it on this step.
               if (gaps(s) >= 0) found = -1;
-              Real h[H];
+              Real h[H > 0 ? H : 1];
               for (int k = 0; k < H; ++k)
                 h[k] = found >= 0 ? c_hist(found, k) : 0;
               if (flipped) Law::flip_history(h);
@@ -376,12 +407,7 @@ struct NeighborList {
     const auto order = bins.order;
     const auto b_offs = block_offsets;
     const auto members = block_members;
-    // A block's particles in cell order (z, y, then x; a cell's in index order): each z layer of the block
-    // (whole x rows) is one contiguous run of the bins.
-    auto for_each_run = [=] KOKKOS_FUNCTION(int blk, auto&& f) {
-      for (int z = box(blk, 2); z < box(blk, 3); ++z)
-        f(start(nx * (box(blk, 0) + ny * z)), start(nx * (box(blk, 1) + ny * z)));
-    };
+    const BlockRuns<decltype(box), decltype(start)> for_each_run{box, start, nx, ny};
     Kokkos::parallel_for(
         "cgdem::kernels::nl_block_count", Kokkos::RangePolicy<ExecSpace>(0, nblocks), KOKKOS_LAMBDA(int blk) {
           int cnt = 0;

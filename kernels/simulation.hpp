@@ -132,14 +132,17 @@ public:
   std::string physics() const override { return physics_; }
   std::string backend() const override { return backend_; }
 
+  // Internal steps, public only because they launch device lambdas: CUDA requires the enclosing member
+  // function of an extended lambda to be public.
+  void allocate_per_particle_scratch(); // everything sized by n_ beside the store and the list
+  Real max_overlap_fraction();
+  void check_overlaps();
+
 private:
   void upload_particles();
   void upload_tables();
-  void allocate_per_particle_scratch(); // everything sized by n_ beside the store and the list
   void rebuild(bool first);
   void compute_forces(bool record_wall_forces, bool cleared = false);
-  Real max_overlap_fraction();
-  void check_overlaps();
   std::string diagnose(const std::string& what);
 
   EngineConfig cfg_;
