@@ -2,6 +2,7 @@
 #include <cmath>
 #include <stdexcept>
 #include "setup/materials.hpp"
+#include "models/scaling/direct_force_scaling.hpp"
 
 namespace cgdem {
 
@@ -191,25 +192,26 @@ void check_scaling(const Scene& scene) {
         "evaluates the original bridge and scales its force");
 }
 
+// The device methods' own exponents (models/scaling/direct_force_scaling.hpp): one table for both sides.
+template <class Method>
+DirectExponents exponents_of() {
+  return {Method::overlap_power, Method::force_power, Method::adhesion_power, Method::torque_power};
+}
+
 DirectExponents direct_exponents(ScalingLaw law) {
-  DirectExponents e;
+  namespace ms = models::scaling;
   switch (law) {
-  case ScalingLaw::HuMethod1: // delta_O = delta_S / l, F_S = l^2 F_O, M_S = l^2 M_O
-    e = {1, 2, 2, 2};
-    break;
-  case ScalingLaw::HuMethod2: // delta_O = delta_S, l^2
-    e = {0, 2, 2, 2};
-    break;
-  case ScalingLaw::HuMethod3: // delta_O = delta_S / l, l^3
-    e = {1, 3, 3, 3};
-    break;
-  case ScalingLaw::Sakai: // delta_O = delta_S, contact l^3, adhesion l^2, torque l^4
-    e = {0, 3, 2, 4};
-    break;
+  case ScalingLaw::HuMethod1:
+    return exponents_of<ms::HuMethod1>();
+  case ScalingLaw::HuMethod2:
+    return exponents_of<ms::HuMethod2>();
+  case ScalingLaw::HuMethod3:
+    return exponents_of<ms::HuMethod3>();
+  case ScalingLaw::Sakai:
+    return exponents_of<ms::Sakai>();
   default:
-    break;
+    return {};
   }
-  return e;
 }
 
 } // namespace cgdem

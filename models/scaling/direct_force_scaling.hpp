@@ -25,7 +25,7 @@
 
 namespace cgdem::models::scaling {
 
-// Exponents per method (the host mirror is cgdem::direct_exponents in setup/scaling.cpp).
+// Exponents per method; the host reads them too (cgdem::direct_exponents in setup/scaling.cpp).
 struct HuMethod1 { // recommended by Hu: geometric similarity, l^2
   static constexpr const char* name = "hu_method1";
   static constexpr int overlap_power = 1, force_power = 2, adhesion_power = 2, torque_power = 2;
