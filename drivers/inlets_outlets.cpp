@@ -16,6 +16,18 @@ double sphere_mass(double density, double r) {
   return density * 4.0 / 3.0 * kPi * r * r * r;
 }
 
+// Appends particle k of `from` to `to`, every field.
+void append_particle(ParticleSet& to, const ParticleSet& from, std::size_t k) {
+  to.id.push_back(from.id[k]);
+  to.position.push_back(from.position[k]);
+  to.velocity.push_back(from.velocity[k]);
+  to.angular_velocity.push_back(from.angular_velocity[k]);
+  to.radius.push_back(from.radius[k]);
+  to.density.push_back(from.density[k]);
+  to.material.push_back(from.material[k]);
+  to.group.push_back(from.group[k]);
+}
+
 // Spheres near an inlet box on a hash grid of cells `cell` wide (at least the largest diameter), for the
 // overlap test of a new particle against its 27 surrounding cells.
 class NearbySpheres {
@@ -76,15 +88,7 @@ ParticleExchange::ParticleExchange(const Scene& scene, ParticleSet& particles, d
     in.placement = spec.placement;
     double total = 0;
     for (; k < particles.size() && particles.group[k] == static_cast<int>(g); ++k) {
-      ParticleSet& q = in.queue;
-      q.id.push_back(particles.id[k]);
-      q.position.push_back(particles.position[k]);
-      q.velocity.push_back(particles.velocity[k]);
-      q.angular_velocity.push_back(particles.angular_velocity[k]);
-      q.radius.push_back(particles.radius[k]);
-      q.density.push_back(particles.density[k]);
-      q.material.push_back(particles.material[k]);
-      q.group.push_back(particles.group[k]);
+      append_particle(in.queue, particles, k);
       total += sphere_mass(particles.density[k], particles.radius[k]);
       in.cumulative_mass.push_back(total);
     }
@@ -166,14 +170,8 @@ ParticleSet ParticleExchange::place(Inlet& in, std::size_t target, const FrameDa
       break; // the rest waits for the next exchange, in order
     }
     near.add(x, r);
-    out.id.push_back(in.queue.id[k]);
-    out.position.push_back(x);
-    out.velocity.push_back(in.queue.velocity[k]);
-    out.angular_velocity.push_back(in.queue.angular_velocity[k]);
-    out.radius.push_back(r);
-    out.density.push_back(in.queue.density[k]);
-    out.material.push_back(in.queue.material[k]);
-    out.group.push_back(in.queue.group[k]);
+    append_particle(out, in.queue, k);
+    out.position.back() = x;
     in.mass += sphere_mass(in.queue.density[k], r);
     ++in.inserted;
   }
@@ -210,16 +208,8 @@ void ParticleExchange::apply(Engine& engine) {
     const std::size_t target = owed(in, engine.time());
     if (target <= in.inserted) continue;
     const ParticleSet more = place(in, target, frame, engine.step(), n);
-    for (std::size_t k = 0; k < more.size(); ++k) {
-      add.id.push_back(more.id[k]);
-      add.position.push_back(more.position[k]);
-      add.velocity.push_back(more.velocity[k]);
-      add.angular_velocity.push_back(more.angular_velocity[k]);
-      add.radius.push_back(more.radius[k]);
-      add.density.push_back(more.density[k]);
-      add.material.push_back(more.material[k]);
-      add.group.push_back(more.group[k]);
-    }
+    for (std::size_t k = 0; k < more.size(); ++k)
+      append_particle(add, more, k);
   }
   engine.exchange(gone, add);
 }
