@@ -74,18 +74,34 @@ struct ContactForces {
   static constexpr bool kHostThreads = std::is_same<Mem, Kokkos::HostSpace>::value;
   static constexpr Schedule kDefaultSchedule = kHostThreads ? Schedule::by_neighbours : Schedule::by_colour;
 
-  // Evaluate all contact forces into store.force / store.torque. When `wall_force` has extent > 0
-  // the force each particle feels from each wall part is stored there too (for the wall reductions).
+  // What the pass reads besides the store, the list and the law.
+  struct Inputs {
+    Domain domain;
+    ParamTable pair_params, wall_params;                              // materials x materials
+    Kokkos::View<PlacedWall*, Mem> walls;                             // placed at this step's time
+    Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history; // N x (wall parts x H)
+    // Extent > 0: the force each particle feels from each wall part is stored there too (N x wall parts,
+    // for the wall reductions).
+    Kokkos::View<Real* [3], Mem> wall_force;
+    Real dt = 0;
+    Real reach = 0;            // the law's longest interaction range beyond contact
+    Real max_radius = 0;       // of the particles in the store
+    Real max_displacement = 0; // the largest displacement of a particle since the list was built
+  };
+
+  // Evaluate all contact forces into store.force / store.torque (and in.wall_force when it has extent).
   // `cleared`: the store's forces, torques and contact counts are zero already (the integrator's pass
   // zeroed them); otherwise this zeroes them first.
   template <class NeighborListT>
-  static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Domain& domain,
-                      const ParamTable& pair_params, const ParamTable& wall_params,
-                      const Kokkos::View<PlacedWall*, Mem>& walls,
-                      const Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem>& wall_history,
-                      const Kokkos::View<Real* [3], Mem>& wall_force, Real dt, Real reach, Real max_radius,
-                      Real max_displacement, Law law, int n, bool cleared = false,
-                      Schedule schedule = kDefaultSchedule) {
+  static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Inputs& in, Law law, int n,
+                      bool cleared = false, Schedule schedule = kDefaultSchedule) {
+    const Domain domain = in.domain;
+    const ParamTable pair_params = in.pair_params, wall_params = in.wall_params;
+    const auto walls = in.walls;
+    const auto wall_history = in.wall_history;
+    const auto wall_force = in.wall_force;
+    const Real dt = in.dt, reach = in.reach, max_radius = in.max_radius,
+               max_displacement = in.max_displacement;
     const int nwalls = static_cast<int>(walls.extent(0));
     const bool record_wall_force = wall_force.extent(0) > 0;
     const auto offsets = nl.offsets;

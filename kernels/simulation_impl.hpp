@@ -126,9 +126,19 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool cl
   for (std::size_t w = 0; w < cfg_.walls.size(); ++w)
     placed_walls_host_(w) = place(cfg_.walls[w], time_);
   Kokkos::deep_copy(placed_walls_, placed_walls_host_);
-  ContactForces<ExecSpace, Law>::compute(store_, nl_, cfg_.domain, pair_params_, wall_params_, placed_walls_,
-                                         wall_history_, record, cfg_.dt, cfg_.reach, max_radius_,
-                                         displacement_since_build_, Law{}, n_, cleared);
+  using Forces = ContactForces<ExecSpace, Law>;
+  typename Forces::Inputs in;
+  in.domain = cfg_.domain;
+  in.pair_params = pair_params_;
+  in.wall_params = wall_params_;
+  in.walls = placed_walls_;
+  in.wall_history = wall_history_;
+  in.wall_force = record;
+  in.dt = cfg_.dt;
+  in.reach = cfg_.reach;
+  in.max_radius = max_radius_;
+  in.max_displacement = displacement_since_build_;
+  Forces::compute(store_, nl_, in, Law{}, n_, cleared);
   Kokkos::fence();
   timers_.forces += timer.seconds();
 }

@@ -334,8 +334,16 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   using Pass = kernels::ContactForces<HostExec, ListLaw>;
   auto pass = [&](double max_displacement, Pass::Schedule schedule = Pass::kDefaultSchedule) {
     Kokkos::deep_copy(nl.history, history0);
-    Pass::compute(p, nl, domain, params, params, walls, wall_history, no_record, 1e-6, 0.0, rmax,
-                  max_displacement, ListLaw{}, n, false, schedule);
+    Pass::Inputs in;
+    in.domain = domain;
+    in.pair_params = in.wall_params = params;
+    in.walls = walls;
+    in.wall_history = wall_history;
+    in.wall_force = no_record;
+    in.dt = 1e-6;
+    in.max_radius = rmax;
+    in.max_displacement = max_displacement;
+    Pass::compute(p, nl, in, ListLaw{}, n, false, schedule);
     std::vector<double> out;
     for (int i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) {
