@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -90,6 +91,23 @@ inline std::string last_frame(hid_t file) {
   char name[32];
   std::snprintf(name, sizeof name, "/frames/%06d", frame_count(file) - 1);
   return name;
+}
+
+// Checks that every dataset the XDMF beside `stem`.h5 names exists in `file` with the stated dimensions;
+// returns how many it named.
+inline int expect_xdmf_matches(hid_t file, const fs::path& xdmf_path, const std::string& stem) {
+  const std::string xdmf = slurp(xdmf_path);
+  const std::regex item("Dimensions=\"([0-9 ]+)\"[^>]*>\\s*" + stem + "\\.h5:([^<\\s]+)\\s*<");
+  int checked = 0;
+  for (auto it = std::sregex_iterator(xdmf.begin(), xdmf.end(), item); it != std::sregex_iterator(); ++it) {
+    std::vector<hsize_t> dims;
+    std::istringstream ds((*it)[1].str());
+    for (hsize_t d; ds >> d;)
+      dims.push_back(d);
+    EXPECT_EQ(shape(file, (*it)[2].str()), dims) << (*it)[2].str();
+    ++checked;
+  }
+  return checked;
 }
 
 } // namespace cgdem::testing
