@@ -2,7 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <unordered_map>
+#include "drivers/host_cell_grid.hpp"
 #include "drivers/random.hpp"
 
 namespace cgdem {
@@ -27,47 +27,6 @@ void append_particle(ParticleSet& to, const ParticleSet& from, std::size_t k) {
   to.material.push_back(from.material[k]);
   to.group.push_back(from.group[k]);
 }
-
-// Spheres near an inlet box on a hash grid of cells `cell` wide (at least the largest diameter), for the
-// overlap test of a new particle against its 27 surrounding cells.
-class NearbySpheres {
-public:
-  NearbySpheres(const DomainSpec& domain, double cell) : domain_(domain), cell_(cell) {}
-  void add(const Vec3d& x, double r) {
-    spheres_.push_back({x, r});
-    cells_[key(x[0], x[1], x[2])].push_back(static_cast<int>(spheres_.size()) - 1);
-  }
-  bool overlaps(const Vec3d& x, double r) const {
-    const long cx = index(x[0]), cy = index(x[1]), cz = index(x[2]);
-    for (long dz = -1; dz <= 1; ++dz)
-      for (long dy = -1; dy <= 1; ++dy)
-        for (long dx = -1; dx <= 1; ++dx) {
-          const auto it = cells_.find(pack(cx + dx, cy + dy, cz + dz));
-          if (it == cells_.end()) continue;
-          for (int j : it->second) {
-            double d2 = 0;
-            for (int a = 0; a < 3; ++a) {
-              double d = x[a] - spheres_[j].first[a];
-              const double L = domain_.hi[a] - domain_.lo[a];
-              if (domain_.periodic[a]) d -= L * std::round(d / L);
-              d2 += d * d;
-            }
-            const double reach = r + spheres_[j].second;
-            if (d2 < reach * reach) return true;
-          }
-        }
-    return false;
-  }
-
-private:
-  long index(double x) const { return static_cast<long>(std::floor(x / cell_)); }
-  static long pack(long x, long y, long z) { return (x * 73856093L) ^ (y * 19349663L) ^ (z * 83492791L); }
-  long key(double x, double y, double z) const { return pack(index(x), index(y), index(z)); }
-  DomainSpec domain_;
-  double cell_;
-  std::vector<std::pair<Vec3d, double>> spheres_;
-  std::unordered_map<long, std::vector<int>> cells_;
-};
 
 } // namespace
 
@@ -145,13 +104,28 @@ ParticleSet ParticleExchange::place(Inlet& in, std::size_t target, const FrameDa
   double reach = rmax;
   for (double r : frame.radius)
     reach = std::max(reach, r);
-  NearbySpheres near(domain_, 2 * reach);
+  // The particles near the box (and those placed now) on a cell grid; periodic images included.
+  HostCellGrid grid(domain_, 2 * reach);
+  std::vector<Vec3d> near_x;
+  std::vector<double> near_r;
+  auto add_near = [&](const Vec3d& x, double r) {
+    grid.insert(static_cast<int>(near_x.size()), x);
+    near_x.push_back(x);
+    near_r.push_back(r);
+  };
+  auto overlaps = [&](const Vec3d& x, double r) {
+    return grid.any_neighbour(x, [&](int j) {
+      const Vec3d d = grid.delta(x, near_x[j]);
+      const double reach_ij = r + near_r[j];
+      return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] < reach_ij * reach_ij;
+    });
+  };
   for (std::size_t i = 0; i < frame.size(); ++i) {
     const double* x = &frame.position[3 * i];
     bool close = true;
-    for (int a = 0; a < 3; ++a)
-      close = close && x[a] > p.lo[a] - 2 * reach && x[a] < p.hi[a] + 2 * reach;
-    if (close) near.add({x[0], x[1], x[2]}, frame.radius[i]);
+    for (int a = 0; a < 3; ++a) // along a periodic axis an image across the seam may be near: keep all
+      close = close && (domain_.periodic[a] || (x[a] > p.lo[a] - 2 * reach && x[a] < p.hi[a] + 2 * reach));
+    if (close) add_near({x[0], x[1], x[2]}, frame.radius[i]);
   }
   Rng rng(p.seed, Rng::inlet, static_cast<std::uint64_t>(step) * 64 + index);
   for (std::size_t k = in.inserted; k < target; ++k) {
@@ -163,13 +137,13 @@ ParticleSet ParticleExchange::place(Inlet& in, std::size_t target, const FrameDa
         const double lo = p.lo[a] + r, hi = p.hi[a] - r;
         x[a] = lo < hi ? rng.uniform(lo, hi) : 0.5 * (p.lo[a] + p.hi[a]);
       }
-      placed = !near.overlaps(x, r);
+      placed = !overlaps(x, r);
     }
     if (!placed) {
       ++in.blocked;
       break; // the rest waits for the next exchange, in order
     }
-    near.add(x, r);
+    add_near(x, r);
     append_particle(out, in.queue, k);
     out.position.back() = x;
     in.mass += sphere_mass(in.queue.density[k], r);
