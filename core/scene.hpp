@@ -203,6 +203,7 @@ struct NeighbourSpec {
   double skin = -1; // absolute (m); < 0: skin_fraction * largest diameter
   double skin_fraction = 0.2;
   int reorder_every = 1; // spatial reorder every N list builds (0: never)
+  std::string force_pass = "auto"; // blocks | pairs | auto (EngineConfig::force_pass)
 };
 
 struct AnalysisSpec {

@@ -68,6 +68,7 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
   c.max_radius = rmax;
   c.skin = scene.neighbour.skin >= 0 ? scene.neighbour.skin : scene.neighbour.skin_fraction * 2 * rmax;
   c.reorder_every = scene.neighbour.reorder_every;
+  c.force_pass = scene.neighbour.force_pass;
   c.max_overlap_fraction = scene.stability.max_overlap_fraction;
   c.contact = effective_contact(scene);
   for (std::size_t w = 0; w < scene.walls.size(); ++w) {

@@ -1026,7 +1026,7 @@ struct Parser {
   }
 
   void parse_neighbour(const Field& f) {
-    MapView m(ctx, f, {"skin", "skin_fraction", "reorder_every"});
+    MapView m(ctx, f, {"skin", "skin_fraction", "reorder_every", "force_pass"});
     NeighbourSpec& n = scene.neighbour;
     opt_num(ctx, m, "skin", n.skin);
     non_negative(ctx, m, "skin", n.skin, "give the absolute skin in m, or use skin_fraction");
@@ -1039,6 +1039,8 @@ struct Parser {
             "give how many list builds between spatial reorders (0: never)");
       n.reorder_every = static_cast<int>(r);
     }
+    if (m.has("force_pass"))
+      n.force_pass = as_choice(ctx, m.get("force_pass"), {"auto", "blocks", "pairs"}, "force pass");
   }
 
   void parse_stability(const Field& f) {

@@ -1,14 +1,22 @@
 #pragma once
-// Pair and wall forces, deterministic without atomics and without a second pass over the pairs:
-//   - the particles are split into blocks of cells, coloured so that two blocks of one colour never
-//     write to the same particle (NeighborList::build_blocks); every particle receives from the blocks
-//     that write to it in the order of their colours (a barrier after each colour, or each block waiting
-//     for its neighbours of earlier colours: `Schedule`), and from a block in its fixed particle order;
-//   - each particle evaluates the law once for each pair it owns in the half list and for each wall, and
-//     adds the force and torque to itself and the reaction (-force, the partner's torque) to the partner.
-// Every particle's sum therefore has a fixed order (colour, then block order), the same on every backend
-// and thread count, and the partner gets exactly the negated force: momentum is conserved to round-off.
-// Nothing is stored per slot but the contact history.
+// Pair and wall forces, deterministic without atomics on the forces. Two ways to share the pairs among
+// threads (`Path`), the same physics:
+//   blocks (the host's default): the particles are split into blocks of cells, coloured so that two blocks
+//     of one colour never write to the same particle (NeighborList::build_blocks); every particle receives
+//     from the blocks that write to it in the order of their colours (a barrier after each colour, or each
+//     block waiting for its neighbours of earlier colours: `Schedule`), and from a block in its fixed
+//     particle order. Each particle evaluates the law once for each pair it owns in the half list, in
+//     batches of kLanes pairs side by side (SIMD), and adds the force and torque to itself and the reaction
+//     to the partner. Few blocks, each walked by one thread: right for a few CPU cores.
+//   pairs (a device's default; on the host an option): one thread per particle evaluates the pairs it owns,
+//     one at a time, and stores each pair's force and torques in the pair's slot; then one thread per
+//     particle sums its slots as owner, its slots as partner (NeighborList::partner_slots, the full list's
+//     other half), and its walls, in that fixed order. As many threads as particles, no thread writes to
+//     another's particle, and each particle's sum has one order on every backend and thread count.
+// A pair's law is evaluated from the same inputs by the same code (pair_state) on both paths, so each pair
+// gets the same bits and the same history; only the order of a particle's sum differs, so the two paths
+// agree to round-off and each is bitwise the same on every backend and thread count. The partner gets
+// exactly the negated force on both: momentum is conserved to round-off.
 #include <sched.h>
 #include <type_traits>
 #include <Kokkos_Core.hpp>
@@ -45,6 +53,135 @@ struct ContactForces {
     return {rows[0][l], rows[1][l], rows[2][l]};
   }
 
+  // What the law sees of a pair: from the separation d (i to j), the relative velocity dv = v_i - v_j, the
+  // spins, radii and masses (the scale factors are the caller's). Both paths build it here, so a pair gets
+  // the same bits on either.
+  KOKKOS_INLINE_FUNCTION static models::PairState pair_state(const models::PairParameters& pp, const Vec3& d,
+                                                             const Vec3& dv, const Vec3& wi, const Vec3& wj,
+                                                             Real ri, Real rj, Real mi, Real mj, Real dt) {
+    const Real dist = math::sqrt(norm2(d));
+    models::PairState st;
+    st.normal = (1.0 / dist) * d;
+    st.overlap = (ri + rj) - dist;
+    st.lever_share = pp.lever_share;
+    // Velocity of i's contact point relative to j's, the lever arms (models::lever_arm) l_i along +n and
+    // l_j along -n: (v_i + w_i x l_i n) - (v_j - w_j x l_j n) = (v_i - v_j) + (l_i w_i + l_j w_j) x n.
+    // The spin part is tangential already, so only the centres' relative velocity loses its normal part.
+    st.overlap_rate = dot(dv, st.normal);
+    st.tangential_velocity =
+        (dv - st.overlap_rate * st.normal) +
+        cross(models::lever_arm(ri, st) * wi + models::lever_arm(rj, st) * wj, st.normal);
+    st.relative_rotation = wi - wj;
+    st.omega_i = wi;
+    st.omega_j = wj;
+    st.radius_i = ri;
+    st.radius_j = rj;
+    st.radius_eff = ri * rj / (ri + rj);
+    st.mass_eff = mi * mj / (mi + mj);
+    st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
+    st.volume_j = (4.0 / 3.0) * math::pi * rj * rj * rj;
+    st.dt = dt;
+    return st;
+  }
+
+  // A listed pair's separation d (i to j, across a seam only for an owner near one) and whether the law must
+  // see the pair this step. Not when it is out of reach of every interaction: its history (`row`, H values)
+  // starts over, cleared here (most listed pairs are not touching and already zero: read first, write only
+  // when needed). Nor when it is apart with nothing kept from an earlier contact: no component acts across
+  // a gap unless it bonded at contact and keeps that in its history (models/contact_law.hpp); most pairs
+  // within a liquid bridge's reach are such. The overlap is computed as pair_state computes it, so the
+  // screen agrees with the law to the last bit. Both paths screen their slots here.
+  KOKKOS_INLINE_FUNCTION static bool in_play(const Domain& domain, bool near_seam, const Vec3& xi,
+                                             const Vec3& xj, Real ri, Real rj, Real reach, ForceReal* row,
+                                             Vec3& d) {
+    // Far from a seam, a partner whose plain separation is off by a box is beyond reach either way.
+    d = near_seam ? domain.minimum_image(xj - xi) : xj - xi;
+    const Real dist2 = norm2(d);
+    const Real reach_ij = (ri + rj) + reach;
+    if (dist2 >= reach_ij * reach_ij || dist2 == 0) {
+      if constexpr (H > 0)
+        for (int k = 0; k < H; ++k)
+          if (row[k] != 0) row[k] = 0;
+      return false;
+    }
+    if constexpr (H > 0)
+      if ((ri + rj) - math::sqrt(dist2) < 0) {
+        bool kept = false;
+        for (int k = 0; k < H; ++k)
+          kept = kept || row[k] != 0;
+        return kept;
+      }
+    return true;
+  }
+
+  // One particle's walls: adds their forces and torques on it to f and t (from the first wall part to the
+  // last), keeps each part's contact history, stores each part's force when `wall_force` has extent, and
+  // returns how many parts it touches. Both paths call it.
+  struct WallTerms {
+    Kokkos::View<PlacedWall*, Mem> walls; // placed at this step's time by the caller
+    ParamTable wall_params;
+    Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history;
+    Kokkos::View<Real* [3], Mem> wall_force;
+    Law law;
+    Real dt = 0, reach = 0;
+    int nwalls = 0;
+    bool record = false;
+
+    KOKKOS_INLINE_FUNCTION int operator()(int i, const Vec3& xi, const Vec3& vi, const Vec3& wi, Real ri,
+                                          Real mi, Real scale_i, int mat_i, Vec3& f, Vec3& t) const {
+      int contacts = 0;
+      Real h[H > 0 ? H : 1];
+      for (int w = 0; w < nwalls; ++w) {
+        const PlacedWall& wall = walls(w);
+        const WallContact wc = wall_contact(wall, xi, ri);
+        ForceReal* const wh = H > 0 ? &wall_history(i, w * H) : nullptr; // this wall's H values
+        Vec3 fw;
+        if (!wc.reachable || wc.overlap <= -reach) {
+          // Most particles are far from most walls and their history is already zero: read first.
+          if constexpr (H > 0)
+            for (int k = 0; k < H; ++k)
+              if (wh[k] != 0) wh[k] = 0;
+        } else {
+          const Vec3 surface_velocity = wall_surface_velocity(wall, wc);
+          models::PairState st;
+          st.normal = wc.normal;
+          st.overlap = wc.overlap;
+          const models::PairParameters& pp = wall_params(mat_i, wall.material);
+          st.lever_share = pp.lever_share;
+          // As for a pair: the spin part (w_i x l_i n) is tangential already.
+          const Vec3 dv = vi - surface_velocity;
+          st.overlap_rate = dot(dv, wc.normal);
+          st.tangential_velocity =
+              (dv - st.overlap_rate * wc.normal) + cross(wi, models::lever_arm(ri, st) * wc.normal);
+          st.relative_rotation = wi;
+          st.omega_i = wi;
+          st.radius_i = ri;
+          st.radius_j = 0;
+          st.radius_eff = ri;
+          st.mass_eff = mi;
+          st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
+          st.volume_j = 0;
+          st.dt = dt;
+          st.scale_i = scale_i;
+          st.scale_j = 0;
+          if constexpr (H > 0)
+            for (int k = 0; k < H; ++k)
+              h[k] = wh[k];
+          const models::ContactForce cf = law(pp, st, h);
+          if constexpr (H > 0)
+            for (int k = 0; k < H; ++k)
+              wh[k] = static_cast<ForceReal>(h[k]);
+          fw = cf.force;
+          f += cf.force;
+          t += cf.torque;
+          contacts += cf.active ? 1 : 0;
+        }
+        if (record) store3(wall_force, i * nwalls + w, fw);
+      }
+      return contacts;
+    }
+  };
+
   // A batch: the pairs (owner i, partner j, slot s), all of one pair of materials (a pair of another starts
   // a new batch) so that the law's parameters are the same in every lane, and what the law needs of them,
   // copied in by the list's walk: the separation as the list saw it, the relative velocity, spins, radii,
@@ -73,6 +210,10 @@ struct ContactForces {
   enum class Schedule { by_colour, by_neighbours };
   static constexpr bool kHostThreads = std::is_same<Mem, Kokkos::HostSpace>::value;
   static constexpr Schedule kDefaultSchedule = kHostThreads ? Schedule::by_neighbours : Schedule::by_colour;
+  // Which way the pairs are shared among threads (see the top of this file). A device runs pairs: its
+  // thousands of threads need thousands of independent tasks, which the blocks are not.
+  enum class Path { blocks, pairs };
+  static constexpr Path kDefaultPath = kHostThreads ? Path::blocks : Path::pairs;
 
   // What the pass reads besides the store, the list and the law.
   struct Inputs {
@@ -91,19 +232,28 @@ struct ContactForces {
 
   // Evaluate all contact forces into store.force / store.torque (and in.wall_force when it has extent).
   // `cleared`: the store's forces, torques and contact counts are zero already (the integrator's pass
-  // zeroed them); otherwise this zeroes them first.
+  // zeroed them); otherwise the blocks path zeroes them first (the pairs path writes every sum whole).
+  // The pairs path indexes the list's partner slots first if this build has not (NeighborList).
   template <class NeighborListT>
-  static void compute(const ParticleStore<Mem>& p, const NeighborListT& nl, const Inputs& in, Law law, int n,
-                      bool cleared = false, Schedule schedule = kDefaultSchedule) {
+  static void compute(const ParticleStore<Mem>& p, NeighborListT& nl, const Inputs& in, Law law, int n,
+                      bool cleared = false, Path path = kDefaultPath, Schedule schedule = kDefaultSchedule) {
+    if (path == Path::pairs) {
+      nl.index_partner_slots(n);
+      compute_by_pairs(p, nl, in, law, n);
+    } else {
+      compute_by_blocks(p, nl, in, law, n, cleared, schedule);
+    }
+  }
+
+  // The blocks path (see the top of this file).
+  template <class NeighborListT>
+  static void compute_by_blocks(const ParticleStore<Mem>& p, const NeighborListT& nl, const Inputs& in,
+                                Law law, int n, bool cleared, Schedule schedule) {
     const Domain domain = in.domain;
-    const ParamTable pair_params = in.pair_params, wall_params = in.wall_params;
-    const auto walls = in.walls;
-    const auto wall_history = in.wall_history;
-    const auto wall_force = in.wall_force;
+    const ParamTable pair_params = in.pair_params;
     const Real dt = in.dt, reach = in.reach, max_radius = in.max_radius,
                max_displacement = in.max_displacement;
-    const int nwalls = static_cast<int>(walls.extent(0));
-    const bool record_wall_force = wall_force.extent(0) > 0;
+    const WallTerms wall_terms = wall_terms_of(in, law);
     const auto offsets = nl.offsets;
     const auto neighbors = nl.neighbors;
     const auto history = nl.history;
@@ -168,29 +318,7 @@ struct ContactForces {
         const Vec3 dv = lane(b.dv, l);
         const Vec3 wi = lane(b.wi, l);
         const Vec3 wj = lane(b.wj, l);
-        const Real ri = b.ri[l], rj = b.rj[l], mi = b.mi[l], mj = b.mj[l];
-        const Real dist = math::sqrt(norm2(d));
-        models::PairState st;
-        st.normal = (1.0 / dist) * d;
-        st.overlap = (ri + rj) - dist;
-        st.lever_share = pp.lever_share;
-        // Velocity of i's contact point relative to j's, the lever arms (models::lever_arm) l_i along +n and
-        // l_j along -n: (v_i + w_i x l_i n) - (v_j - w_j x l_j n) = (v_i - v_j) + (l_i w_i + l_j w_j) x n.
-        // The spin part is tangential already, so only the centres' relative velocity loses its normal part.
-        st.overlap_rate = dot(dv, st.normal);
-        st.tangential_velocity =
-            (dv - st.overlap_rate * st.normal) +
-            cross(models::lever_arm(ri, st) * wi + models::lever_arm(rj, st) * wj, st.normal);
-        st.relative_rotation = wi - wj;
-        st.omega_i = wi;
-        st.omega_j = wj;
-        st.radius_i = ri;
-        st.radius_j = rj;
-        st.radius_eff = ri * rj / (ri + rj);
-        st.mass_eff = mi * mj / (mi + mj);
-        st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
-        st.volume_j = (4.0 / 3.0) * math::pi * rj * rj * rj;
-        st.dt = dt;
+        models::PairState st = pair_state(pp, d, dv, wi, wj, b.ri[l], b.rj[l], b.mi[l], b.mj[l], dt);
         if constexpr (kScaleFactors) {
           st.scale_i = b.scale_i[l];
           st.scale_j = b.scale_j[l];
@@ -260,30 +388,8 @@ struct ContactForces {
         math::prefetch(row3(p.force, ahead));
         math::prefetch(row3(p.torque, ahead));
         const Real rj = p.radius(j);
-        // Far from a seam, a partner whose plain separation is off by a box is beyond reach either way.
-        const Vec3 stored = load3(p.position, j) - xi;
-        const Vec3 d = near_seam ? domain.minimum_image(stored) : stored;
-        const Real dist2 = norm2(d);
-        const Real reach_ij = (ri + rj) + reach;
-        if (dist2 >= reach_ij * reach_ij || dist2 == 0) {
-          // Out of reach of every interaction: the pair's history (if any) starts over. Most listed
-          // pairs are not touching and already zero: read first, write only when needed.
-          if (H > 0) // plain, as above
-            for (int k = 0; k < H; ++k)
-              if (history_row(s)[k] != 0) history_row(s)[k] = 0;
-          continue;
-        }
-        // Apart, with nothing kept from an earlier contact: no component acts across a gap unless it
-        // bonded at contact and keeps that in its history (models/contact_law.hpp), so the pair is not worth
-        // a lane. Most pairs within a liquid bridge's reach are such. The overlap is computed as the lane
-        // computes it, so the screen agrees with the law to the last bit.
-        if constexpr (H > 0)
-          if ((ri + rj) - math::sqrt(dist2) < 0) {
-            bool kept = false;
-            for (int k = 0; k < H; ++k)
-              kept = kept || history_row(s)[k] != 0;
-            if (!kept) continue;
-          }
+        Vec3 d;
+        if (!in_play(domain, near_seam, xi, load3(p.position, j), ri, rj, reach, history_row(s), d)) continue;
         const int mat_j = one_material ? 0 : p.material(j);
         if (batch.n > 0 && (batch.material_i != mat_i || batch.material_j != mat_j)) evaluate(batch);
         if (batch.n == 0) {
@@ -314,55 +420,7 @@ struct ContactForces {
       }
 
       Vec3 f, t;
-      int wall_contacts = 0;
-      Real h[H > 0 ? H : 1];
-      for (int w = 0; w < nwalls; ++w) {
-        const PlacedWall& wall = walls(w); // placed at this step's time by the caller
-        const WallContact wc = wall_contact(wall, xi, ri);
-        ForceReal* const wh = H > 0 ? &wall_history(i, w * H) : nullptr; // this wall's H values
-        Vec3 fw;
-        if (!wc.reachable || wc.overlap <= -reach) {
-          // Most particles are far from most walls and their history is already zero: read first.
-          if constexpr (H > 0)
-            for (int k = 0; k < H; ++k)
-              if (wh[k] != 0) wh[k] = 0;
-        } else {
-          const Vec3 surface_velocity = wall_surface_velocity(wall, wc);
-          models::PairState st;
-          st.normal = wc.normal;
-          st.overlap = wc.overlap;
-          const models::PairParameters& pp = wall_params(mat_i, wall.material);
-          st.lever_share = pp.lever_share;
-          // As for a pair: the spin part (w_i x l_i n) is tangential already.
-          const Vec3 dv = vi - surface_velocity;
-          st.overlap_rate = dot(dv, wc.normal);
-          st.tangential_velocity =
-              (dv - st.overlap_rate * wc.normal) + cross(wi, models::lever_arm(ri, st) * wc.normal);
-          st.relative_rotation = wi;
-          st.omega_i = wi;
-          st.radius_i = ri;
-          st.radius_j = 0;
-          st.radius_eff = ri;
-          st.mass_eff = mi;
-          st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
-          st.volume_j = 0;
-          st.dt = dt;
-          st.scale_i = scale_i;
-          st.scale_j = 0;
-          if constexpr (H > 0)
-            for (int k = 0; k < H; ++k)
-              h[k] = wh[k];
-          const models::ContactForce cf = law(pp, st, h);
-          if constexpr (H > 0)
-            for (int k = 0; k < H; ++k)
-              wh[k] = static_cast<ForceReal>(h[k]);
-          fw = cf.force;
-          f += cf.force;
-          t += cf.torque;
-          wall_contacts += cf.active ? 1 : 0;
-        }
-        if (record_wall_force) store3(wall_force, i * nwalls + w, fw);
-      }
+      const int wall_contacts = wall_terms(i, xi, vi, wi, ri, mi, scale_i, mat_i, f, t);
       store3(p.force, i, load3(p.force, i) + f);
       store3(p.torque, i, load3(p.torque, i) + t);
       p.wall_contacts(i) = wall_contacts;
@@ -414,6 +472,117 @@ struct ContactForces {
       Kokkos::parallel_for("cgdem::kernels::contact_forces", DynamicRange(first, last).set_chunk_size(1),
                            block_forces);
     }
+  }
+
+  // The pairs path (see the top of this file): a pass over the owners writes each pair's terms to its slot
+  // (NeighborList::slot_force, slot_torque, slot_torque_j, slot_active), a pass over the particles sums them.
+  template <class NeighborListT>
+  static void compute_by_pairs(const ParticleStore<Mem>& p, const NeighborListT& nl, const Inputs& in,
+                               Law law, int n) {
+    const Domain domain = in.domain;
+    const ParamTable pair_params = in.pair_params;
+    const Real dt = in.dt, reach = in.reach;
+    const WallTerms wall_terms = wall_terms_of(in, law);
+    const auto offsets = nl.offsets;
+    const auto neighbors = nl.neighbors;
+    const auto history = nl.history;
+    const auto gaps = nl.gap;
+    const auto slot_force = nl.slot_force;
+    const auto slot_torque = nl.slot_torque;
+    const auto slot_torque_j = nl.slot_torque_j;
+    const auto slot_active = nl.slot_active;
+    const auto partner_offsets = nl.partner_offsets;
+    const auto partner_slots = nl.partner_slots;
+    // As on the blocks path: slots still beyond reach since the build are skipped, by both passes alike.
+    const Real skip_beyond = 2 * in.max_displacement * (1 + 1e-6);
+    const Domain::Interior interior = domain.interior((2 * in.max_radius + reach) * (1 + 1e-9));
+    const bool one_material = pair_params.extent(0) == 1 && pair_params.extent(1) == 1;
+    KOKKOS_ASSERT(H == 0 || history.stride(0) == static_cast<std::size_t>(H));
+    auto history_row = [=] KOKKOS_FUNCTION(int s) {
+      return history.data() + static_cast<std::size_t>(s) * H;
+    };
+
+    Kokkos::parallel_for(
+        "cgdem::kernels::pair_terms", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          const Vec3 xi = load3(p.position, i);
+          const Vec3 vi = load3(p.velocity, i);
+          const Vec3 wi = load3(p.angular_velocity, i);
+          const Real ri = p.radius(i);
+          const Real mi = p.mass(i);
+          const int mat_i = one_material ? 0 : p.material(i);
+          const bool near_seam = !interior.contains(xi);
+          for (int s = offsets(i); s < offsets(i + 1); ++s) {
+            if (gaps(s) > skip_beyond) break;
+            const int j = neighbors(s);
+            const Real rj = p.radius(j);
+            Vec3 d;
+            models::ContactForce cf; // nothing, for a pair the law need not see
+            if (in_play(domain, near_seam, xi, load3(p.position, j), ri, rj, reach, history_row(s), d)) {
+              const models::PairParameters& pp = pair_params(mat_i, one_material ? 0 : p.material(j));
+              models::PairState st = pair_state(pp, d, vi - load3(p.velocity, j), wi,
+                                                load3(p.angular_velocity, j), ri, rj, mi, p.mass(j), dt);
+              if (kScaleFactors) {
+                st.scale_i = p.scale_factor(i);
+                st.scale_j = p.scale_factor(j);
+              }
+              Real h[H > 0 ? H : 1];
+              for (int k = 0; k < H; ++k)
+                h[k] = history_row(s)[k];
+              cf = law(pp, st, h);
+              for (int k = 0; k < H; ++k)
+                history_row(s)[k] = static_cast<ForceReal>(h[k]);
+            }
+            store3(slot_force, s, cf.force);
+            store3(slot_torque, s, cf.torque);
+            store3(slot_torque_j, s, cf.torque_j);
+            slot_active(s) = cf.active;
+          }
+        });
+
+    Kokkos::parallel_for(
+        "cgdem::kernels::pair_sums", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          Vec3 f, t;
+          int contacts = 0;
+          for (int s = offsets(i); s < offsets(i + 1); ++s) {
+            if (gaps(s) > skip_beyond) break;
+            f += load3(slot_force, s);
+            t += load3(slot_torque, s);
+            contacts += slot_active(s);
+          }
+          // The reactions, as the blocks path adds them: a pair that exerts nothing (a listed, non-touching
+          // pair of a law without reach) leaves the partner alone.
+          for (int k = partner_offsets(i); k < partner_offsets(i + 1); ++k) {
+            const int s = partner_slots(k);
+            if (gaps(s) > skip_beyond) continue;
+            const Vec3 fs = load3(slot_force, s);
+            if (slot_active(s) || norm2(fs) > 0) {
+              f -= fs;
+              t += load3(slot_torque_j, s);
+              contacts += slot_active(s);
+            }
+          }
+          const int wall_contacts =
+              wall_terms(i, load3(p.position, i), load3(p.velocity, i), load3(p.angular_velocity, i),
+                         p.radius(i), p.mass(i), p.scale_factor(i), one_material ? 0 : p.material(i), f, t);
+          store3(p.force, i, f);
+          store3(p.torque, i, t);
+          p.contacts(i) = contacts;
+          p.wall_contacts(i) = wall_contacts;
+        });
+  }
+
+  static WallTerms wall_terms_of(const Inputs& in, const Law& law) {
+    WallTerms w;
+    w.walls = in.walls;
+    w.wall_params = in.wall_params;
+    w.wall_history = in.wall_history;
+    w.wall_force = in.wall_force;
+    w.law = law;
+    w.dt = in.dt;
+    w.reach = in.reach;
+    w.nwalls = static_cast<int>(in.walls.extent(0));
+    w.record = in.wall_force.extent(0) > 0;
+    return w;
   }
 };
 

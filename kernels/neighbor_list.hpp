@@ -118,6 +118,17 @@ struct NeighborList {
   std::vector<int> block_strip_y, block_strip_z; // host: each block's strips, in the claim order
   int num_slots = 0;
 
+  // For the force pass's pairs path (ContactForces::Path::pairs; index_partner_slots): the other half of a
+  // full list, each particle's slots as the partner, ascending (CSR over the particles), and each slot's
+  // terms as the law gave them on the last pass: the force and torque on the owner, the torque on the
+  // partner, whether the pair counts as a contact. Empty until that path first runs.
+  Kokkos::View<int*, Mem> partner_offsets; // n + 1
+  Kokkos::View<int*, Mem> partner_slots;
+  Kokkos::View<int*, Mem> partner_fill; // n, scratch of index_partner_slots
+  Kokkos::View<Real*[3], Mem> slot_force, slot_torque, slot_torque_j;
+  Kokkos::View<int*, Mem> slot_active;
+  bool partner_slots_indexed = false; // for the slots as they are (reset by every build and restore)
+
   // The history to carry into the next build: per particle (by its index at the last build), the
   // partners whose slot history is not zero, and that history. Grows only.
   Kokkos::View<int*, Mem> carry_offsets, carry_partner;
@@ -126,9 +137,11 @@ struct NeighborList {
   std::size_t bytes() const {
     return (offsets.span() + neighbors.span() + block_offsets.span() + block_members.span() +
             block_after_offsets.span() + block_after.span() + block_done.span() + carry_offsets.span() +
-            carry_partner.span()) *
+            carry_partner.span() + partner_offsets.span() + partner_slots.span() + partner_fill.span() +
+            slot_active.span()) *
                sizeof(int) +
-           gap.span() * sizeof(float) + (history.span() + carry_history.span()) * sizeof(ForceReal);
+           gap.span() * sizeof(float) + (history.span() + carry_history.span()) * sizeof(ForceReal) +
+           (slot_force.span() + slot_torque.span() + slot_torque_j.span()) * sizeof(Real);
   }
 
   // Build from bins whose `order` lists the particles by cell. `old_index(i)` maps a particle's current
@@ -284,6 +297,60 @@ struct NeighborList {
     return total;
   }
 
+  // Index, for each particle, the slots where it is the partner (partner_slots, ascending), and size the
+  // slots' terms: what the pairs path of the force pass needs beyond the half list. Once per build. The
+  // slots are counted per partner with atomics and placed at an atomic cursor, in whatever order the
+  // threads arrive, then each particle's few are sorted: the index is the same on every backend and thread
+  // count.
+  void index_partner_slots(int n) {
+    if (partner_slots_indexed) return;
+    if (static_cast<int>(partner_offsets.extent(0)) != n + 1) {
+      partner_offsets = Kokkos::View<int*, Mem>("cgdem::kernels::nl_partner_offsets", n + 1);
+      partner_fill = Kokkos::View<int*, Mem>("cgdem::kernels::nl_partner_fill", n);
+    }
+    const int capacity = static_cast<int>(neighbors.extent(0));
+    if (static_cast<int>(slot_active.extent(0)) < capacity) {
+      slot_force = Kokkos::View<Real* [3], Mem>("cgdem::kernels::nl_slot_force", capacity);
+      slot_torque = Kokkos::View<Real* [3], Mem>("cgdem::kernels::nl_slot_torque", capacity);
+      slot_torque_j = Kokkos::View<Real* [3], Mem>("cgdem::kernels::nl_slot_torque_j", capacity);
+      slot_active = Kokkos::View<int*, Mem>("cgdem::kernels::nl_slot_active", capacity);
+    }
+    if (static_cast<int>(partner_slots.extent(0)) < num_slots)
+      partner_slots = Kokkos::View<int*, Mem>("cgdem::kernels::nl_partner_slots", capacity);
+    const auto offs = offsets;
+    const auto neigh = neighbors;
+    const auto p_offs = partner_offsets;
+    const auto fill = partner_fill;
+    const auto p_slots = partner_slots;
+    Kokkos::deep_copy(ExecSpace(), p_offs, 0);
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_partner_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          for (int s = offs(i); s < offs(i + 1); ++s)
+            Kokkos::atomic_fetch_add(&p_offs(neigh(s) + 1), 1);
+        });
+    counts_to_offsets(p_offs, n, "cgdem::kernels::nl_partner_scan");
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_partner_start", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int j) { fill(j) = p_offs(j); });
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_partner_fill", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
+          for (int s = offs(i); s < offs(i + 1); ++s)
+            p_slots(Kokkos::atomic_fetch_add(&fill(neigh(s)), 1)) = s;
+        });
+    Kokkos::parallel_for(
+        "cgdem::kernels::nl_partner_sort", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int j) {
+          for (int a = p_offs(j) + 1; a < p_offs(j + 1); ++a) {
+            const int s = p_slots(a);
+            int b = a;
+            for (; b > p_offs(j) && p_slots(b - 1) > s; --b)
+              p_slots(b) = p_slots(b - 1);
+            p_slots(b) = s;
+          }
+        });
+    Kokkos::fence();
+    partner_slots_indexed = true;
+  }
+
   // Copy the slots of the current list whose history is not zero into the carry CSR, in slot order.
   void carry_nonzero_history(int n) {
     if (static_cast<int>(carry_offsets.extent(0)) != n + 1)
@@ -359,6 +426,7 @@ struct NeighborList {
   // other, each colour's blocks in parallel. `bins` must be the bins of the build (after a restart: of
   // position_at_build).
   void build_blocks(const Domain& domain, const CellGrid& grid, const CellBins<ExecSpace>& bins, int n) {
+    partner_slots_indexed = false; // called last by every build and restore: the slots have changed
     const int nx = grid.dims[0], ny = grid.dims[1];
     // Strip k of axis a (1: y, 2: z): cells [edge(a, k), edge(a, k + 1)) of the occupied range [lo, hi],
     // the outer strips extended to the domain's ends. A periodic axis: all of it (its strips pair up

@@ -53,6 +53,12 @@ public:
             << 2 * rmax + cutoff_extra_ << " m: enlarge the domain along it or reduce the skin";
         throw std::invalid_argument(msg.str());
       }
+    if (cfg.force_pass == "blocks")
+      force_path_ = ContactForces<ExecSpace, Law>::Path::blocks;
+    else if (cfg.force_pass == "pairs")
+      force_path_ = ContactForces<ExecSpace, Law>::Path::pairs;
+    else if (cfg.force_pass != "auto")
+      throw std::invalid_argument("force pass '" + cfg.force_pass + "': use blocks, pairs or auto");
     allocate_per_particle_scratch();
     rebuild(true);
     compute_forces(true);
@@ -161,6 +167,8 @@ private:
   CellGrid grid_;
   Kokkos::View<int*, Mem> identity_;
   Kokkos::View<int*, Mem> old_index_; // new -> old index of the last reorder (history transfer)
+  // How the force pass shares the pairs among threads (ContactForces::Path); the backend's own by default.
+  typename ContactForces<ExecSpace, Law>::Path force_path_ = ContactForces<ExecSpace, Law>::kDefaultPath;
   Real cutoff_extra_ = 0;
   Real max_radius_ = 0; // of the particles now in the store (the force pass's seam test)
   // The largest displacement of a particle since the list was built (the force pass skips pairs still

@@ -138,7 +138,7 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool cl
   in.reach = cfg_.reach;
   in.max_radius = max_radius_;
   in.max_displacement = displacement_since_build_;
-  Forces::compute(store_, nl_, in, Law{}, n_, cleared);
+  Forces::compute(store_, nl_, in, Law{}, n_, cleared, force_path_);
   Kokkos::fence();
   timers_.forces += timer.seconds();
 }

@@ -24,6 +24,9 @@ struct EngineConfig {
   double skin = 0;
   double reach = 0;      // longest interaction range beyond touching (adhesion, bridges)
   int reorder_every = 1; // spatial reorder every N list builds (0: never)
+  // How the force pass shares the pairs among threads (kernels/contact_forces.hpp): "blocks", "pairs", or
+  // "auto" (the backend's own: blocks on host threads, pairs on a device).
+  std::string force_pass = "auto";
   double max_overlap_fraction = 0.5;
   ContactSpec contact;
   // For particles added during the run (inlets): each group's material slot and scale factor, and the

@@ -105,12 +105,12 @@ TEST(NeighborList, EqualsBruteForceOnPolydispersePeriodicPacksAlsoAfterReorder) 
   const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.9, 0.3);
   for (unsigned seed : {1u, 2u, 3u}) {
     const double box = 0.012, skin = 0.2e-3;
-    ParticleSet p = random_periodic(1500, box, 0.25e-3, 1e-3, 2500, 0.5, seed);  // size ratio 1:4
+    ParticleSet p = random_periodic(1500, box, 0.25e-3, 1e-3, 2500, 0.5, seed); // size ratio 1:4
     auto engine = make(periodic_scene(box, m), p, 1e-6, "openmp", skin);
     CheckpointData c = engine->checkpoint();
     EXPECT_EQ(listed(c), brute_force(c, box, skin)) << "seed " << seed;
     engine->advance(50);
-    engine->rebuild_neighbors();  // forced rebuild with a spatial reorder
+    engine->rebuild_neighbors(); // forced rebuild with a spatial reorder
     c = engine->checkpoint();
     EXPECT_NE(c.ints.at("id"), p.id) << "the reorder should have permuted the store";
     EXPECT_EQ(listed(c), brute_force(c, box, skin)) << "after reorder, seed " << seed;
@@ -331,10 +331,13 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
         for (int k = 0; k < 3; ++k)
           history0(s, k) = 1e-6 * u(rng);
 
-  using Pass = kernels::ContactForces<HostExec, ListLaw>;
-  auto pass = [&](double max_displacement, Pass::Schedule schedule = Pass::kDefaultSchedule) {
-    Kokkos::deep_copy(nl.history, history0);
-    Pass::Inputs in;
+  // One pass from history0 on the given backend's path; returns per particle its force and torque
+  // (interleaved) and contact count, then every slot's history.
+  auto run_pass = [&](auto exec, auto& list, double max_displacement, auto path, auto schedule) {
+    using Exec = decltype(exec);
+    using PassOn = kernels::ContactForces<Exec, ListLaw>;
+    Kokkos::deep_copy(list.history, history0);
+    typename PassOn::Inputs in;
     in.domain = domain;
     in.pair_params = in.wall_params = params;
     in.walls = walls;
@@ -343,7 +346,7 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
     in.dt = 1e-6;
     in.max_radius = rmax;
     in.max_displacement = max_displacement;
-    Pass::compute(p, nl, in, ListLaw{}, n, false, schedule);
+    PassOn::compute(p, list, in, ListLaw{}, n, false, path, schedule);
     std::vector<double> out;
     for (int i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) {
@@ -352,12 +355,17 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
       }
       out.push_back(p.contacts(i));
     }
-    for (std::size_t k = 0; k < nl.history.span(); ++k)
-      out.push_back(nl.history.data()[k]);
+    for (std::size_t k = 0; k < list.history.span(); ++k)
+      out.push_back(list.history.data()[k]);
     return out;
   };
-  const std::vector<double> skipping = pass(moved),
-                            exhaustive = pass(std::numeric_limits<double>::infinity());
+  using Pass = kernels::ContactForces<HostExec, ListLaw>;
+  auto pass = [&](double max_displacement, Pass::Path path = Pass::Path::blocks,
+                  Pass::Schedule schedule = Pass::kDefaultSchedule) {
+    return run_pass(HostExec(), nl, max_displacement, path, schedule);
+  };
+  const double everything = std::numeric_limits<double>::infinity();
+  const std::vector<double> skipping = pass(moved), exhaustive = pass(everything);
   ASSERT_EQ(skipping.size(), exhaustive.size());
   int contacts = 0;
   for (int i = 0; i < n; ++i)
@@ -368,10 +376,61 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   // The two schedules of the blocks (a barrier per colour, or each block after its earlier neighbours)
   // give every particle its terms in the same order: the same bits, on however many threads run.
   for (const auto schedule : {Pass::Schedule::by_colour, Pass::Schedule::by_neighbours}) {
-    const std::vector<double> scheduled = pass(moved, schedule);
+    const std::vector<double> scheduled = pass(moved, Pass::Path::blocks, schedule);
     for (std::size_t k = 0; k < skipping.size(); ++k)
       ASSERT_EQ(scheduled[k], skipping[k]) << "entry " << k << ", schedule " << static_cast<int>(schedule);
   }
+
+  // The pairs path (each pair alone into its slot, then each particle sums its slots) evaluates the same
+  // pairs from the same inputs: the same histories and contact counts, bitwise, and the same force and
+  // torque sums up to their order (round-off of the largest term). Skipping changes nothing on it either,
+  // and the Serial backend gives its bits.
+  const std::vector<double> pairs = pass(moved, Pass::Path::pairs),
+                            pairs_all = pass(everything, Pass::Path::pairs);
+  ASSERT_EQ(pairs.size(), skipping.size());
+  for (std::size_t k = 0; k < pairs.size(); ++k)
+    ASSERT_EQ(pairs[k], pairs_all[k]) << "entry " << k;
+  double force_scale = 0, torque_scale = 0;
+  for (int k = 0; k < 7 * n; ++k)
+    if (k % 7 < 6)
+      (k % 2 == 0 ? force_scale : torque_scale) =
+          std::max(k % 2 == 0 ? force_scale : torque_scale, std::abs(skipping[k]));
+  ASSERT_GT(force_scale, 0);
+  ASSERT_GT(torque_scale, 0);
+  int different = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const bool sum = k < std::size_t(7 * n) && k % 7 < 6;
+    if (!sum) {
+      ASSERT_EQ(pairs[k], skipping[k])
+          << (k < std::size_t(7 * n) ? "contact count of particle " : "history entry ")
+          << (k < std::size_t(7 * n) ? k / 7 : k - 7 * n);
+      continue;
+    }
+    const double scale = k % 2 == 0 ? force_scale : torque_scale;
+    ASSERT_NEAR(pairs[k], skipping[k], 1e-13 * scale) << "particle " << k / 7 << ", entry " << k % 7;
+    different += pairs[k] != skipping[k];
+  }
+  // Not a test that cannot fail: the sums do come in another order.
+  EXPECT_GT(different, 0);
+#ifdef KOKKOS_ENABLE_SERIAL
+  {
+    // The same list built on Serial from the positions at the build, then the pass from the moved ones.
+    using SerialPass = kernels::ContactForces<Kokkos::Serial, ListLaw>;
+    Kokkos::View<Real* [3], Mem> moved_position("moved", n);
+    Kokkos::deep_copy(moved_position, p.position);
+    Kokkos::deep_copy(p.position, p.position_at_build);
+    kernels::CellBins<Kokkos::Serial> serial_bins;
+    serial_bins.build(grid, p.position, n);
+    kernels::NeighborList<Kokkos::Serial, ListLaw> serial_nl;
+    serial_nl.build(domain, grid, serial_bins, p.position, p.radius, skin, 0.0, n, identity, false);
+    Kokkos::deep_copy(p.position, moved_position);
+    ASSERT_EQ(serial_nl.num_slots, nl.num_slots);
+    const std::vector<double> serial =
+        run_pass(Kokkos::Serial(), serial_nl, moved, SerialPass::Path::pairs, SerialPass::kDefaultSchedule);
+    for (std::size_t k = 0; k < pairs.size(); ++k)
+      ASSERT_EQ(serial[k], pairs[k]) << "entry " << k << ": Serial vs OpenMP, pairs path";
+  }
+#endif
 
   // A restored list gets its gaps from the positions at the build; a particle whose slots are not in the
   // order the pass stops on (an older checkpoint) must never be skipped.
@@ -434,8 +493,8 @@ TEST(ContactHistory, TangentialSpringSurvivesForcedRebuildAndReorder) {
       for (auto k = off[i]; k < off[i + 1]; ++k)
         if (hist[3 * k] != 0 || hist[3 * k + 1] != 0 || hist[3 * k + 2] != 0) {
           const double sign = id[i] < id[nb[k]] ? 1 : -1;
-          h[{std::min(id[i], id[nb[k]]), std::max(id[i], id[nb[k]])}] = {sign * hist[3 * k], sign * hist[3 * k + 1],
-                                                                        sign * hist[3 * k + 2]};
+          h[{std::min(id[i], id[nb[k]]), std::max(id[i], id[nb[k]])}] = {
+              sign * hist[3 * k], sign * hist[3 * k + 1], sign * hist[3 * k + 2]};
         }
     return h;
   };
@@ -443,7 +502,7 @@ TEST(ContactHistory, TangentialSpringSurvivesForcedRebuildAndReorder) {
   b->rebuild_neighbors();
   const auto after = history_by_pair(b->checkpoint());
   ASSERT_GT(before.size(), 100u) << "the test needs sustained contacts";
-  EXPECT_EQ(before, after);  // bitwise: every spring carried over, none lost or invented
+  EXPECT_EQ(before, after); // bitwise: every spring carried over, none lost or invented
   // Forces one step later: same to round-off (only the summation order changed with the reorder).
   a->advance(1);
   b->advance(1);
@@ -462,16 +521,18 @@ TEST(Conservation, MomentumToRoundOffInClosedPeriodicBox) {
   ParticleSet p = random_periodic(2000, box, 0.3e-3, 0.6e-3, 2500, 0.5, 11);
   auto engine = make(periodic_scene(box, m), p, 2e-6);
   const Observables o0 = engine->observe();
-  double scale = 0;  // sum of |m v|, the size of the numbers that cancel
+  double scale = 0; // sum of |m v|, the size of the numbers that cancel
   const FrameData f0 = engine->frame();
   for (std::size_t i = 0; i < f0.size(); ++i)
-    scale += f0.mass[i] * std::sqrt(f0.velocity[3 * i] * f0.velocity[3 * i] + f0.velocity[3 * i + 1] * f0.velocity[3 * i + 1] +
+    scale += f0.mass[i] * std::sqrt(f0.velocity[3 * i] * f0.velocity[3 * i] +
+                                    f0.velocity[3 * i + 1] * f0.velocity[3 * i + 1] +
                                     f0.velocity[3 * i + 2] * f0.velocity[3 * i + 2]);
   engine->advance(2000);
   const Observables o1 = engine->observe();
   EXPECT_GT(o1.contacts, 0);
-  for (int a = 0; a < 3; ++a) EXPECT_LT(std::fabs(o1.momentum[a] - o0.momentum[a]), 1e-13 * scale) << "axis " << a;
-  EXPECT_LT(o1.kinetic_energy, o0.kinetic_energy);  // dissipative contacts did work
+  for (int a = 0; a < 3; ++a)
+    EXPECT_LT(std::fabs(o1.momentum[a] - o0.momentum[a]), 1e-13 * scale) << "axis " << a;
+  EXPECT_LT(o1.kinetic_energy, o0.kinetic_energy); // dissipative contacts did work
 }
 
 TEST(Conservation, ElasticFrictionlessBoxDriftsLessThan1e4OverTenThousandSteps) {
@@ -502,7 +563,7 @@ TEST(Conservation, ElasticFrictionlessBoxDriftsLessThan1e4OverTenThousandSteps) 
           d2 += d * d;
         }
         const double ov = 2 * r - std::sqrt(d2);
-        if (ov > 0) elastic += (8.0 / 15.0) * e_star * std::sqrt(r_eff) * std::pow(ov, 2.5);  // each pair once
+        if (ov > 0) elastic += (8.0 / 15.0) * e_star * std::sqrt(r_eff) * std::pow(ov, 2.5); // each pair once
       }
     return o.kinetic_energy + o.rotational_energy + elastic;
   };
@@ -513,7 +574,8 @@ TEST(Conservation, ElasticFrictionlessBoxDriftsLessThan1e4OverTenThousandSteps) 
     contacts_seen += engine->observe().contacts;
   }
   const double e1 = total_energy();
-  std::printf("[ report ] elastic box N=5000 dt=0.1 T_R: relative energy drift %.3e over 10000 steps\n", (e1 - e0) / e0);
+  std::printf("[ report ] elastic box N=5000 dt=0.1 T_R: relative energy drift %.3e over 10000 steps\n",
+              (e1 - e0) / e0);
   EXPECT_GT(contacts_seen, 0);
   EXPECT_LT(std::fabs(e1 - e0) / e0, 1e-4);
 }

@@ -1,6 +1,7 @@
 #pragma once
 // Small scenes built in code for the physics tests (no YAML), and helpers to run them.
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <random>
 #include "setup/time_step.hpp"
@@ -9,7 +10,8 @@
 
 namespace cgdem::testing {
 
-inline MaterialSpec material(const std::string& name, double density, double E, double nu, double e, double mu) {
+inline MaterialSpec material(const std::string& name, double density, double E, double nu, double e,
+                             double mu) {
   MaterialSpec m;
   m.name = name;
   m.density = density;
@@ -37,7 +39,8 @@ inline Scene basic_scene(const std::vector<MaterialSpec>& materials, const std::
   return s;
 }
 
-inline void add_particle(ParticleSet& p, const Vec3d& x, const Vec3d& v, double radius, double density, int material = 0) {
+inline void add_particle(ParticleSet& p, const Vec3d& x, const Vec3d& v, double radius, double density,
+                         int material = 0) {
   p.id.push_back(static_cast<std::int64_t>(p.id.size()) + 1);
   p.position.push_back(x);
   p.velocity.push_back(v);
@@ -49,13 +52,18 @@ inline void add_particle(ParticleSet& p, const Vec3d& x, const Vec3d& v, double 
 }
 
 // Backend "auto": Serial for a few particles (a handful of pairs gains nothing from threads and pays a
-// barrier per kernel), OpenMP otherwise. Trajectories are identical either way.
-inline std::unique_ptr<Engine> make(const Scene& scene, const ParticleSet& p, double dt, const std::string& backend = "auto",
-                                    double skin = -1) {
+// barrier per kernel), OpenMP otherwise, with the backend's own force pass. Trajectories are identical
+// either way. CGDEM_TEST_BACKEND and CGDEM_TEST_FORCE_PASS, when set, override both (even a test's explicit
+// backend): ctest runs the engine and physics suites once more on every compiled backend with every force
+// pass (CMakeLists.txt).
+inline std::unique_ptr<Engine> make(const Scene& scene, const ParticleSet& p, double dt,
+                                    const std::string& backend = "auto", double skin = -1) {
   TimeStepEstimate e = estimate_time_step(scene, p);
   e.step = dt;
   EngineConfig c = make_engine_config(scene, p, e);
   if (skin >= 0) c.skin = skin;
+  if (const char* pass = std::getenv("CGDEM_TEST_FORCE_PASS")) c.force_pass = pass;
+  if (const char* forced = std::getenv("CGDEM_TEST_BACKEND")) return make_engine(c, forced);
   return make_engine(c, backend != "auto" ? backend : (p.size() < 1000 ? "serial" : "openmp"));
 }
 
