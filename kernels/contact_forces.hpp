@@ -127,8 +127,8 @@ struct ContactForces {
     int nwalls = 0;
     bool record = false;
 
-    KOKKOS_INLINE_FUNCTION int operator()(int i, const Vec3& xi, const Vec3& vi, const Vec3& wi, Real ri,
-                                          Real mi, Real scale_i, int mat_i, Vec3& f, Vec3& t) const {
+    KOKKOS_FORCEINLINE_FUNCTION int operator()(int i, const Vec3& xi, const Vec3& vi, const Vec3& wi, Real ri,
+                                               Real mi, Real scale_i, int mat_i, Vec3& f, Vec3& t) const {
       int contacts = 0;
       Real h[H > 0 ? H : 1];
       for (int w = 0; w < nwalls; ++w) {

@@ -57,7 +57,11 @@ struct PartnerVisitor {
             x = (x + grid.dims[0]) % grid.dims[0];
           }
           const int cell = x + grid.dims[0] * (y + grid.dims[1] * z);
-          for (int k = start(cell); k < start(cell + 1); ++k) {
+          // A cell's particles are in index order: a cell whose last is not above i holds no partner of
+          // i (in a store sorted by cell, the half of the stencil before i's own cell).
+          const int first = start(cell), last = start(cell + 1);
+          if (first == last || order(last - 1) <= i) continue;
+          for (int k = first; k < last; ++k) {
             const int j = order(k);
             if (j <= i) continue;
             const Vec3 d = domain.minimum_image(Vec3{position(j, 0), position(j, 1), position(j, 2)} - xi);
