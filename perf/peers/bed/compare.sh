@@ -1,9 +1,13 @@
 #!/bin/bash
 # Side-by-side timing of cgdem, LIGGGHTS and LAMMPS on the shared settled beds (perf/peers/README.md).
 #
-#   compare.sh [--n 2k|10k|50k|200k|all] [--law hertz|jkr|dmt|capillary|eepa] [--runs R] [--steps S]
-#              [--codes "cgdem liggghts lammps"] [--out DIR]
+#   compare.sh [--n 2k|10k|50k|200k|all] [--law hertz|jkr|dmt|capillary|eepa] [--scene bed|chute]
+#              [--runs R] [--steps S] [--codes "cgdem liggghts lammps"] [--out DIR]
 #
+# --scene: bed (default) the settled bed at rest under gravity; chute, the same bed flowing: gravity tilted
+# 25 degrees about y (an inclined plane, periodic along the slope) and every particle started at 0.5 m/s
+# down the slope, so that the floor shears the bed from below, contacts open and close throughout, and the
+# neighbour list is rebuilt every few tens of steps (each code's count is in its log).
 # --law: the contact law of all codes (default hertz, Hertz-Mindlin). jkr: full JKR with surface energy GAMMA
 # (default 0.05 J/m^2), bonds broken at the pull-off force as LAMMPS does (cgdem: jkr_separation pull_off);
 # dmt: Hertz-Mindlin plus DMT adhesion. The floor is not adhesive (in.bed.lammps says why). Both run against
@@ -41,6 +45,7 @@ RUNS=3
 STEPS=2000
 CODES=""
 LAW=hertz
+SCENE=bed
 GAMMA=${GAMMA:-0.05}
 OUT=""
 CORES=$(getconf _NPROCESSORS_ONLN)
@@ -51,8 +56,9 @@ while [ $# -gt 0 ]; do
     --steps) STEPS=$2; shift 2 ;;
     --codes) CODES=$2; shift 2 ;;
     --law) LAW=$2; shift 2 ;;
+    --scene) SCENE=$2; shift 2 ;;
     --out) OUT=$2; shift 2 ;;
-    -h|--help) sed -n 2,28p "$0"; exit 0 ;;
+    -h|--help) sed -n 2,32p "$0"; exit 0 ;;
     *) echo "compare.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -69,6 +75,13 @@ case $LAW in
 esac
 case " $CODES " in *" liggghts "*) case $LAW in hertz|capillary|eepa) ;; *) echo "compare.sh: LIGGGHTS runs --law hertz, capillary or eepa" >&2; exit 2 ;; esac ;; esac
 case " $CODES " in *" lammps "*) case $LAW in hertz|jkr|dmt) ;; *) echo "compare.sh: LAMMPS runs --law hertz, jkr or dmt" >&2; exit 2 ;; esac ;; esac
+# The scene as cgdem's --set overrides and the peers' -var (their inputs default to the bed at rest).
+case $SCENE in
+  bed) CGDEM_SCENE=(); PEER_SCENE=() ;;
+  chute) CGDEM_SCENE=(--set 'gravity=[4.14586, 0, -8.89085]' --set 'groups.0.velocity=[0.5, 0, 0]')
+         PEER_SCENE=(-var gx 0.422618 -var gz -0.906308 -var vx 0.5) ;;
+  *) echo "compare.sh: --scene must be bed or chute (got $SCENE)" >&2; exit 2 ;;
+esac
 for n in $SIZES; do
   case $n in 2k|10k|50k|200k) ;; *) echo "compare.sh: --n must be 2k, 10k, 50k, 200k or all (got $n)" >&2; exit 2 ;; esac
 done
@@ -108,7 +121,7 @@ sum_rss() { cat "$@" | awk '/^[0-9]+$/ { s += $1 } END { print s + 0 }'; }
 
 run_cgdem() { # n threads run
   local tag=$OUT/cgdem_$1_t$2_r$3
-  /usr/bin/time -f %M -o "$tag.rss" "$CGDEM" run "$HERE/bed_$1.yaml" --threads "$2" --quiet --out "$tag.h5" "${CGDEM_LAW[@]}" \
+  /usr/bin/time -f %M -o "$tag.rss" "$CGDEM" run "$HERE/bed_$1.yaml" --threads "$2" --quiet --out "$tag.h5" "${CGDEM_LAW[@]}" "${CGDEM_SCENE[@]}" \
     --set time.end="$($PY -c "print($STEPS * 1e-5)")" >"$tag.out" 2>"$tag.log" || { echo "cgdem failed: $tag.log" >&2; return 1; }
   local pss np contacts_ke
   np=$(sed -n 's/^done: [0-9]* steps of \([0-9]*\) particles.*/\1/p' "$tag.log")
@@ -133,7 +146,7 @@ run_peer() { # code n ranks run
   # shellcheck disable=SC2086
   (cd "$OUT" && $MPIRUN $MPI_FLAGS -np "$np" sh -c 'exec /usr/bin/time -f %M -o "$0.${OMPI_COMM_WORLD_RANK:-0}" "$@"' \
       "$tag.rss" "$bin" -in "$input" -var data "$data" -var steps "$STEPS" \
-      -var dumpfile "$tag.dump_*.bin" "${extra[@]}" \
+      -var dumpfile "$tag.dump_*.bin" "${extra[@]}" "${PEER_SCENE[@]}" \
       -echo none -log none >"$tag.log" 2>&1) || { echo "$code failed: $tag.log" >&2; return 1; }
   # "Loop time of T on P procs for S steps with N atoms"; the thermo line of the last step: step atoms ke pairs floor
   local row
@@ -150,7 +163,7 @@ run_peer() { # code n ranks run
 CGDEM_INFO=$("$CGDEM" info 2>&1 || true)
 {
   echo "compare.sh: $(date -u '+%Y-%m-%d %H:%M UTC'), host $(hostname), $(lscpu | sed -n 's/^Model name: *//p'), $CORES cores"
-  echo "  load average at start: $(cut -d' ' -f1-3 /proc/loadavg); sizes: $SIZES; law: $LAW$(case $LAW in jkr|dmt) echo " (surface energy $GAMMA J/m^2)" ;; esac); $RUNS runs x $STEPS steps; codes: $CODES"
+  echo "  load average at start: $(cut -d' ' -f1-3 /proc/loadavg); sizes: $SIZES; scene: $SCENE; law: $LAW$(case $LAW in jkr|dmt) echo " (surface energy $GAMMA J/m^2)" ;; esac); $RUNS runs x $STEPS steps; codes: $CODES"
   # The binary is named by its checksum and build time, since CGDEM may point at a copy built from another
   # commit than the working tree's; the tree's commit is printed as the tree's.
   echo "  cgdem: $CGDEM_SRC (sha256 $(sha256sum "$CGDEM_SRC" | cut -c1-12), built $(date -u -r "$CGDEM_SRC" '+%Y-%m-%d %H:%M UTC')), tree at $(cd "$ROOT" && git log -1 --format='%h %cd' --date=short 2>/dev/null) ($(echo "$CGDEM_INFO" | head -1), $(echo "$CGDEM_INFO" | grep -m1 '^instruction set' || echo 'instruction set: generic'))"
