@@ -4,6 +4,7 @@
 // (kernels/reorder.hpp); contact history lives with the neighbour list.
 #include <Kokkos_Core.hpp>
 #include <cstdint>
+#include <string>
 #include <type_traits>
 #include "core/types.hpp"
 
@@ -34,29 +35,53 @@ struct ParticleStore {
 
   int size() const { return static_cast<int>(id.extent(0)); }
 
-  explicit ParticleStore(int n = 0) { allocate(n); }
+  ParticleStore() = default; // no fields allocated
+  explicit ParticleStore(int n) { allocate(n); }
+
+  // Calls visit(name, view) for every per-particle field, in one fixed order. Everything that handles all
+  // fields alike (allocation, spatial reorder, checkpoint and restore, adding and removing particles)
+  // walks this list, so a new field is declared above and listed here, nowhere else.
+  template <class Store, class Visitor>
+  static void for_each_field(Store& s, Visitor&& visit) {
+    visit("id", s.id);
+    visit("position", s.position);
+    visit("velocity", s.velocity);
+    visit("angular_velocity", s.angular_velocity);
+    visit("force", s.force);
+    visit("torque", s.torque);
+    visit("position_at_build", s.position_at_build);
+    visit("radius", s.radius);
+    visit("mass", s.mass);
+    visit("inertia", s.inertia);
+    visit("scale_factor", s.scale_factor);
+    visit("material", s.material);
+    visit("group", s.group);
+    visit("contacts", s.contacts);
+    visit("wall_contacts", s.wall_contacts);
+  }
+
+  // Values per particle of a field's view type: 1 or the fixed column count.
+  template <class FieldView>
+  static constexpr int columns() {
+    return FieldView::rank == 1 ? 1 : static_cast<int>(FieldView::static_extent(1));
+  }
 
   void allocate(int n) {
-    id = View<std::int64_t*>("cgdem::core::id", n);
-    position = View<Real* [3]>("cgdem::core::position", n);
-    velocity = View<Real* [3]>("cgdem::core::velocity", n);
-    angular_velocity = View<Real* [3]>("cgdem::core::angular_velocity", n);
-    force = View<Real* [3]>("cgdem::core::force", n);
-    torque = View<Real* [3]>("cgdem::core::torque", n);
-    position_at_build = View<Real* [3]>("cgdem::core::position_at_build", n);
-    radius = View<Real*>("cgdem::core::radius", n);
-    mass = View<Real*>("cgdem::core::mass", n);
-    inertia = View<Real*>("cgdem::core::inertia", n);
-    scale_factor = View<Real*>("cgdem::core::scale_factor", n);
-    material = View<int*>("cgdem::core::material", n);
-    group = View<int*>("cgdem::core::group", n);
-    contacts = View<int*>("cgdem::core::contacts", n);
-    wall_contacts = View<int*>("cgdem::core::wall_contacts", n);
+    for_each_field(*this, [n](const char* name, auto& view) {
+      using FieldView = std::decay_t<decltype(view)>;
+      view = FieldView(std::string("cgdem::core::") + name, n);
+    });
   }
 
   // Bytes per particle held by the store (for the memory estimate and benchmarks).
-  static constexpr std::size_t bytes_per_particle() {
-    return sizeof(std::int64_t) + 7 * 3 * sizeof(Real) + 4 * sizeof(Real) + 5 * sizeof(int);
+  static std::size_t bytes_per_particle() {
+    std::size_t bytes = 0;
+    ParticleStore unallocated;
+    for_each_field(unallocated, [&bytes](const char*, const auto& view) {
+      using FieldView = std::decay_t<decltype(view)>;
+      bytes += sizeof(typename FieldView::value_type) * columns<FieldView>();
+    });
+    return bytes;
   }
 };
 

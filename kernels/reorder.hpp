@@ -43,21 +43,8 @@ struct Reorder {
 
   static void permute_store(const ParticleStore<Mem>& p, const Scratch& scratch,
                             const Kokkos::View<int*, Mem>& order, int n) {
-    permute(p.id, scratch, order, n);
-    permute(p.position, scratch, order, n);
-    permute(p.velocity, scratch, order, n);
-    permute(p.angular_velocity, scratch, order, n);
-    permute(p.force, scratch, order, n);
-    permute(p.torque, scratch, order, n);
-    permute(p.position_at_build, scratch, order, n);
-    permute(p.radius, scratch, order, n);
-    permute(p.mass, scratch, order, n);
-    permute(p.inertia, scratch, order, n);
-    permute(p.scale_factor, scratch, order, n);
-    permute(p.material, scratch, order, n);
-    permute(p.group, scratch, order, n);
-    permute(p.contacts, scratch, order, n);
-    permute(p.wall_contacts, scratch, order, n);
+    ParticleStore<Mem>::for_each_field(
+        p, [&](const char*, const auto& field) { permute(field, scratch, order, n); });
   }
 
 private:

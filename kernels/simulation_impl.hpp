@@ -347,25 +347,17 @@ CheckpointData Simulation<Law, ExecSpace>::checkpoint() {
   c.scalars["builds"] = static_cast<double>(builds_);
   c.scalars["num_slots"] = nl_.num_slots;
   c.scalars["history_size"] = H;
-  c.ints["id"] = detail::to_ints(store_.id);
-  c.ints["material"] = detail::to_ints(store_.material);
-  c.ints["group"] = detail::to_ints(store_.group);
-  c.ints["contacts"] = detail::to_ints(store_.contacts);
-  c.ints["wall_contacts"] = detail::to_ints(store_.wall_contacts);
+  ParticleStore<Mem>::for_each_field(store_, [&c](const char* name, const auto& field) {
+    using T = typename std::decay_t<decltype(field)>::value_type;
+    if constexpr (std::is_integral_v<T>)
+      c.ints[name] = detail::to_ints(field);
+    else
+      c.reals[name] = detail::to_reals(field);
+  });
   c.ints["nl_offsets"] = detail::to_ints(nl_.offsets);
   auto neigh = detail::to_ints(nl_.neighbors);
   neigh.resize(nl_.num_slots);
   c.ints["nl_neighbors"] = neigh;
-  c.reals["position"] = detail::to_reals(store_.position);
-  c.reals["velocity"] = detail::to_reals(store_.velocity);
-  c.reals["angular_velocity"] = detail::to_reals(store_.angular_velocity);
-  c.reals["force"] = detail::to_reals(store_.force);
-  c.reals["torque"] = detail::to_reals(store_.torque);
-  c.reals["position_at_build"] = detail::to_reals(store_.position_at_build);
-  c.reals["radius"] = detail::to_reals(store_.radius);
-  c.reals["mass"] = detail::to_reals(store_.mass);
-  c.reals["inertia"] = detail::to_reals(store_.inertia);
-  c.reals["scale_factor"] = detail::to_reals(store_.scale_factor);
   auto hist = detail::to_reals(nl_.history);
   hist.resize(std::size_t(nl_.num_slots) * H);
   c.reals["nl_history"] = hist;
@@ -392,24 +384,16 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   }
   if (static_cast<int>(need(c.scalars, "history_size")) != H)
     throw std::runtime_error("checkpoint was written by a different contact law (history size differs)");
-  detail::from_vector(store_.id, need(c.ints, "id"), "id");
-  detail::from_vector(store_.material, need(c.ints, "material"), "material");
-  detail::from_vector(store_.group, need(c.ints, "group"), "group");
-  detail::from_vector(store_.contacts, need(c.ints, "contacts"), "contacts");
-  detail::from_vector(store_.wall_contacts, need(c.ints, "wall_contacts"), "wall_contacts");
-  detail::from_vector(store_.position, need(c.reals, "position"), "position");
-  detail::from_vector(store_.velocity, need(c.reals, "velocity"), "velocity");
-  detail::from_vector(store_.angular_velocity, need(c.reals, "angular_velocity"), "angular_velocity");
-  detail::from_vector(store_.force, need(c.reals, "force"), "force");
-  detail::from_vector(store_.torque, need(c.reals, "torque"), "torque");
-  detail::from_vector(store_.position_at_build, need(c.reals, "position_at_build"), "position_at_build");
-  detail::from_vector(store_.radius, need(c.reals, "radius"), "radius");
+  ParticleStore<Mem>::for_each_field(store_, [&](const char* name, const auto& field) {
+    using T = typename std::decay_t<decltype(field)>::value_type;
+    if constexpr (std::is_integral_v<T>)
+      detail::from_vector(field, need(c.ints, name), name);
+    else
+      detail::from_vector(field, need(c.reals, name), name);
+  });
   max_radius_ = cfg_.max_radius;
   for (double r : need(c.reals, "radius"))
     max_radius_ = std::max<Real>(max_radius_, r);
-  detail::from_vector(store_.mass, need(c.reals, "mass"), "mass");
-  detail::from_vector(store_.inertia, need(c.reals, "inertia"), "inertia");
-  detail::from_vector(store_.scale_factor, need(c.reals, "scale_factor"), "scale_factor");
   detail::from_vector(wall_history_, need(c.reals, "wall_history"), "wall_history");
   if (!cfg_.walls.empty())
     detail::from_vector(wall_force_record_, need(c.reals, "wall_force_record"), "wall_force_record");
@@ -472,12 +456,14 @@ void Simulation<Law, ExecSpace>::exchange(const std::vector<std::int64_t>& remov
     out.resize(n_new * width, T(0));
     values = std::move(out);
   };
-  for (const char* key : {"id", "material", "group", "contacts", "wall_contacts"})
-    compact(c.ints.at(key), 1);
-  for (const char* key : {"position", "velocity", "angular_velocity", "force", "torque", "position_at_build"})
-    compact(c.reals.at(key), 3);
-  for (const char* key : {"radius", "mass", "inertia", "scale_factor"})
-    compact(c.reals.at(key), 1);
+  ParticleStore<Mem>::for_each_field(store_, [&](const char* name, const auto& field) {
+    using FieldView = std::decay_t<decltype(field)>;
+    constexpr std::size_t width = ParticleStore<Mem>::template columns<FieldView>();
+    if constexpr (std::is_integral_v<typename FieldView::value_type>)
+      compact(c.ints.at(name), width);
+    else
+      compact(c.reals.at(name), width);
+  });
   compact(c.reals.at("wall_history"), parts * H);
   if (parts > 0) compact(c.reals.at("wall_force_record"), parts * 3);
   // The added particles' own fields.
