@@ -26,14 +26,16 @@ struct MaterialSpec {
   double restitution = 1; // (0, 1]
   double friction = 0;    // sliding
   double rolling_friction = 0;
-  double surface_energy = 0;                                    // J/m^2 (JKR, DMT)
-  double eepa_k1 = 0, eepa_k2 = 0, eepa_k_adh = 0, eepa_f0 = 0; // linear EEPA (N/m, N)
-  double spring_normal = 0, spring_tangential = 0;              // linear spring-dashpot (N/m)
-  double surface_tension = 0;                                   // N/m (capillary)
-  double contact_angle = 0;                                     // degrees in YAML, radians here
-  double liquid_fraction = 0;                                   // V_liq = fraction * (V_i + V_j)
-  double liquid_volume = 0; // m^3 per bridge, overrides liquid_fraction when > 0
-  double min_separation = 1e-6;
+  double surface_energy = 0; // J/m^2 (JKR, DMT; the pair overrides and the scaling laws read it too)
+  // The parameters of the contact-law components, by "<block>.<key>" (e.g. "eepa.k1", "capillary.
+  // contact_angle"), in SI units (angles in radians). Each component declares its own, with their defaults
+  // (models/material_parameters.hpp); a key the material does not give takes that default.
+  std::map<std::string, double> law_parameters;
+
+  double law_parameter(const std::string& key, double fallback) const {
+    const auto it = law_parameters.find(key);
+    return it == law_parameters.end() ? fallback : it->second;
+  }
 };
 
 // Which compiled law a scene uses, component by component (models/contact_law.hpp).
@@ -202,7 +204,7 @@ struct StopSpec {
 struct NeighbourSpec {
   double skin = -1; // absolute (m); < 0: skin_fraction * largest diameter
   double skin_fraction = 0.2;
-  int reorder_every = 1; // spatial reorder every N list builds (0: never)
+  int reorder_every = 1;           // spatial reorder every N list builds (0: never)
   std::string force_pass = "auto"; // blocks | pairs | auto (EngineConfig::force_pass)
 };
 

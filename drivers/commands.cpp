@@ -23,6 +23,7 @@
 #include "drivers/preflight.hpp"
 #include "drivers/scene_parser.hpp"
 #include "kernels/engine.hpp"
+#include "models/component_lists.hpp"
 
 namespace cgdem {
 
@@ -467,7 +468,7 @@ int check_command(const std::vector<std::string>& args) {
                 p.scene.contact.wall_adhesion ? "same law on walls" : "walls without adhesion");
     {
       const ContactSpec& c = p.scene.contact;
-      const bool spring = c.normal == "linear" || c.normal == "eepa";
+      const bool spring = models::is_spring_like(c.normal);
       const bool adhesive = c.normal == "jkr" || c.adhesion == "dmt";
       char at_speed[160];
       std::snprintf(at_speed, sizeof at_speed,

@@ -38,6 +38,13 @@ void add_laws_of(std::vector<PhysicsEntry>& registry) {
   });
 }
 
+// The I-th normal law's combinations (drivers/physics_normal_<I>.cpp instantiates it).
+template <int I>
+void add_normal_laws(std::vector<PhysicsEntry>& registry) {
+  if constexpr (I < models::list_size(models::NormalLaws{}))
+    add_laws_of<models::TypeAt<I, models::NormalLaws>>(registry);
+}
+
 // The laws of Hu et al. 2022's validation, which direct force scaling wraps: Hertz-Mindlin, JKR-Mindlin
 // and Hertz with capillary bridges.
 using DirectlyScaledLaws =

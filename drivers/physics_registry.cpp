@@ -12,8 +12,12 @@ namespace {
 const std::vector<PhysicsEntry>& registry() {
   static const std::vector<PhysicsEntry> all = [] {
     std::vector<PhysicsEntry> r;
-    for (auto add : {add_hertz_laws, add_linear_laws, add_jkr_laws, add_eepa_laws, add_hu_method1_laws,
-                     add_hu_method2_laws, add_hu_method3_laws, add_sakai_laws})
+    static_assert(models::list_size(models::NormalLaws{}) <= kNormalLawUnits,
+                  "more normal laws than translation units: add drivers/physics_normal_<i>.cpp for the new "
+                  "index and raise kNormalLawUnits (drivers/physics_registry.hpp)");
+    for (auto add :
+         {add_normal_laws<0>, add_normal_laws<1>, add_normal_laws<2>, add_normal_laws<3>, add_normal_laws<4>,
+          add_normal_laws<5>, add_hu_method1_laws, add_hu_method2_laws, add_hu_method3_laws, add_sakai_laws})
       add(r);
     return r;
   }();

@@ -14,11 +14,17 @@ struct PhysicsEntry {
                                   const std::string& backend);
 };
 
-// One per translation unit: the normal laws' sensible combinations, and the direct scaling methods.
-void add_hertz_laws(std::vector<PhysicsEntry>& registry);
-void add_linear_laws(std::vector<PhysicsEntry>& registry);
-void add_jkr_laws(std::vector<PhysicsEntry>& registry);
-void add_eepa_laws(std::vector<PhysicsEntry>& registry);
+// One per translation unit: the sensible combinations of the I-th normal law of models::NormalLaws
+// (drivers/physics_normal_<I>.cpp; nothing when the list is shorter), and the direct scaling methods.
+inline constexpr int kNormalLawUnits = 6;
+template <int I>
+void add_normal_laws(std::vector<PhysicsEntry>& registry);
+extern template void add_normal_laws<0>(std::vector<PhysicsEntry>&);
+extern template void add_normal_laws<1>(std::vector<PhysicsEntry>&);
+extern template void add_normal_laws<2>(std::vector<PhysicsEntry>&);
+extern template void add_normal_laws<3>(std::vector<PhysicsEntry>&);
+extern template void add_normal_laws<4>(std::vector<PhysicsEntry>&);
+extern template void add_normal_laws<5>(std::vector<PhysicsEntry>&);
 void add_hu_method1_laws(std::vector<PhysicsEntry>& registry);
 void add_hu_method2_laws(std::vector<PhysicsEntry>& registry);
 void add_hu_method3_laws(std::vector<PhysicsEntry>& registry);

@@ -306,6 +306,22 @@ void non_negative(const Ctx& ctx, const MapView& m, const std::string& key, doub
   if (m.has(key)) check(ctx, v >= 0, m.get(key), key + " must be >= 0 (got " + num_str(v) + ")", fix);
 }
 
+// A component parameter's declared range (models/material_parameters.hpp).
+bool within_range(const models::MaterialParameter& d, double v) {
+  const bool above = d.lowest_included ? v >= d.lowest : v > d.lowest;
+  const bool below = d.highest_included ? v <= d.highest : v < d.highest;
+  return above && below;
+}
+std::string out_of_range(const models::MaterialParameter& d, double v) {
+  const std::string key = d.key, got = " (got " + num_str(v) + ")";
+  if (std::isinf(d.highest))
+    return key + " must be " + (d.lowest_included ? ">= " : "> ") + num_str(d.lowest) + got;
+  if (std::isinf(d.lowest))
+    return key + " must be " + (d.highest_included ? "<= " : "< ") + num_str(d.highest) + got;
+  return key + " " + num_str(v) + " is outside " + (d.lowest_included ? "[" : "(") + num_str(d.lowest) +
+         ", " + num_str(d.highest) + (d.highest_included ? "]" : ")");
+}
+
 double norm(const Vec3d& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
@@ -359,9 +375,13 @@ struct Parser {
   }
 
   void parse_material(const std::string& name, const Field& f) {
-    MapView m(ctx, f,
-              {"density", "youngs_modulus", "poisson_ratio", "restitution", "friction", "rolling_friction",
-               "surface_energy", "eepa", "spring", "capillary"});
+    std::vector<std::string> keys{"density",  "youngs_modulus",   "poisson_ratio", "restitution",
+                                  "friction", "rolling_friction", "surface_energy"};
+    models::for_each_component([&](auto component) {
+      using C = typename decltype(component)::type;
+      if constexpr (models::HasMaterialParameters<C>::value) keys.push_back(C::material_block);
+    });
+    MapView m(ctx, f, keys);
     MaterialSpec s;
     s.name = name;
     opt_num(ctx, m, "density", s.density);
@@ -384,50 +404,27 @@ struct Parser {
     non_negative(ctx, m, "rolling_friction", s.rolling_friction, "use a rolling friction coefficient >= 0");
     opt_num(ctx, m, "surface_energy", s.surface_energy);
     non_negative(ctx, m, "surface_energy", s.surface_energy, "use a surface energy >= 0 in J/m^2");
-    if (m.has("eepa")) {
-      MapView e(ctx, m.get("eepa"), {"k1", "k2", "k_adh", "f0"});
-      opt_num(ctx, e, "k1", s.eepa_k1);
-      positive(ctx, e, "k1", s.eepa_k1, "give the loading stiffness k1 in N/m");
-      opt_num(ctx, e, "k2", s.eepa_k2);
-      positive(ctx, e, "k2", s.eepa_k2, "give the unloading stiffness k2 in N/m");
-      if (e.has("k1") && e.has("k2"))
-        check(ctx, s.eepa_k2 >= s.eepa_k1, e.get("k2"),
-              "k2 = " + num_str(s.eepa_k2) + " is below k1 = " + num_str(s.eepa_k1),
-              "the unloading stiffness k2 must be at least the loading stiffness k1");
-      opt_num(ctx, e, "k_adh", s.eepa_k_adh);
-      non_negative(ctx, e, "k_adh", s.eepa_k_adh, "give the adhesive stiffness k_adh >= 0 in N/m");
-      opt_num(ctx, e, "f0", s.eepa_f0);
-      if (e.has("f0"))
-        check(ctx, s.eepa_f0 <= 0, e.get("f0"), "f0 = " + num_str(s.eepa_f0) + " is positive",
-              "f0 is the constant pull-off force and must be <= 0 (N)");
-    }
-    if (m.has("spring")) {
-      MapView sp(ctx, m.get("spring"), {"normal", "tangential"});
-      opt_num(ctx, sp, "normal", s.spring_normal);
-      positive(ctx, sp, "normal", s.spring_normal, "give the normal spring stiffness in N/m");
-      opt_num(ctx, sp, "tangential", s.spring_tangential);
-      non_negative(ctx, sp, "tangential", s.spring_tangential, "give the tangential stiffness >= 0 in N/m");
-    }
-    if (m.has("capillary")) {
-      MapView c(ctx, m.get("capillary"),
-                {"surface_tension", "contact_angle", "liquid_fraction", "liquid_volume", "min_separation"});
-      opt_num(ctx, c, "surface_tension", s.surface_tension);
-      non_negative(ctx, c, "surface_tension", s.surface_tension,
-                   "give the surface tension in N/m, e.g. 0.072");
-      double deg = 0;
-      opt_num(ctx, c, "contact_angle", deg);
-      if (c.has("contact_angle"))
-        check(ctx, deg >= 0 && deg < 90, c.get("contact_angle"),
-              "contact angle " + num_str(deg) + " degrees is outside [0, 90)",
-              "give the wetting angle in degrees, 0 <= angle < 90 (a bridge needs a wetting liquid)");
-      s.contact_angle = deg * kPi / 180.0;
-      opt_num(ctx, c, "liquid_fraction", s.liquid_fraction);
-      non_negative(ctx, c, "liquid_fraction", s.liquid_fraction, "give the liquid fraction >= 0");
-      opt_num(ctx, c, "liquid_volume", s.liquid_volume);
-      non_negative(ctx, c, "liquid_volume", s.liquid_volume, "give the liquid volume per bridge >= 0 in m^3");
-      opt_num(ctx, c, "min_separation", s.min_separation);
-      positive(ctx, c, "min_separation", s.min_separation, "give the minimum separation in m, e.g. 1e-6");
-    }
+    // Each component's block of keys, as the component declares them (models/material_parameters.hpp).
+    models::for_each_component([&](auto component) {
+      using C = typename decltype(component)::type;
+      if constexpr (models::HasMaterialParameters<C>::value) {
+        if (!m.has(C::material_block)) return;
+        std::vector<std::string> block_keys;
+        for (const models::MaterialParameter& d : C::material_parameters)
+          block_keys.push_back(d.key);
+        MapView block(ctx, m.get(C::material_block), block_keys);
+        for (const models::MaterialParameter& d : C::material_parameters)
+          if (block.has(d.key)) {
+            const double v = as_num(ctx, block.get(d.key));
+            check(ctx, within_range(d, v), block.get(d.key), out_of_range(d, v), d.help);
+            s.law_parameters[models::parameter_path(C::material_block, d)] = d.degrees ? v * kPi / 180.0 : v;
+          }
+        if constexpr (models::HasMaterialProblem<C>::value) {
+          const models::MaterialProblem problem = C::material_problem(s);
+          check(ctx, problem.key.empty(), block.get(problem.key), problem.problem, problem.fix);
+        }
+      }
+    });
     scene.materials.push_back(s);
     material_fields[name] = f;
   }
@@ -1105,29 +1102,25 @@ struct Parser {
       const MaterialSpec& m = scene.materials[scene.material_index(name)];
       const Field& f = material_fields.at(name);
       const std::string used_by = " (used by " + user + ")";
-      if ((c.normal == "hertz" || c.normal == "jkr") && !(m.youngs_modulus > 0))
+      if (!models::is_spring_like(c.normal) && !(m.youngs_modulus > 0))
         ctx.fail(f.path + ".youngs_modulus", f.mark,
                  "material '" + name + "' has no youngs_modulus, needed by contact.normal " + c.normal +
                      used_by,
                  "add youngs_modulus: <Pa>");
-      if (c.normal == "linear" && !(m.spring_normal > 0))
-        ctx.fail(f.path + ".spring", f.mark,
-                 "material '" + name + "' has no spring.normal, needed by contact.normal linear" + used_by,
-                 "add spring: {normal: <N/m>, tangential: <N/m>}");
-      if (c.normal == "eepa" && !(m.eepa_k1 > 0 && m.eepa_k2 > 0))
-        ctx.fail(f.path + ".eepa", f.mark,
-                 "material '" + name + "' has no eepa.k1 and eepa.k2, needed by contact.normal eepa" +
-                     used_by,
-                 "add eepa: {k1: <N/m>, k2: <N/m>, k_adh: <N/m>, f0: <N>}");
+      // What each chosen component declares it needs; a wall needs no adhesion parameters when walls are
+      // not adhesive.
       const bool wall_only = user.rfind("walls.", 0) == 0;
-      if (c.adhesion == "capillary" && !(wall_only && !c.wall_adhesion) &&
-          !(m.surface_tension > 0 && (m.liquid_fraction > 0 || m.liquid_volume > 0)))
-        ctx.fail(f.path + ".capillary", f.mark,
-                 "material '" + name +
-                     "' needs capillary.surface_tension and liquid_fraction or liquid_volume for adhesion "
-                     "capillary" +
-                     used_by,
-                 "add capillary: {surface_tension: 0.072, contact_angle: 0, liquid_fraction: 0.00415}");
+      models::for_each_chosen_component(c, [&](auto component, const char* kind) {
+        using C = typename decltype(component)::type;
+        if constexpr (models::HasMaterialMissing<C>::value) {
+          if (std::string(kind) == "adhesion" && wall_only && !c.wall_adhesion) return;
+          if (const char* missing = C::material_missing(m))
+            ctx.fail(f.path + "." + C::material_block, f.mark,
+                     "material '" + name + "' has no " + missing + ", needed by contact." + kind + " " +
+                         C::name + used_by,
+                     std::string("add ") + C::material_example);
+        }
+      });
     }
     for (std::size_t i = 0; i < scene.groups.size(); ++i) {
       const MaterialSpec& m = scene.materials[scene.material_index(scene.groups[i].material)];

@@ -15,6 +15,7 @@
 #include "drivers/particle_generation.hpp"
 #include "drivers/preflight.hpp"
 #include "drivers/scene_parser.hpp"
+#include "models/component_lists.hpp"
 
 namespace cgdem {
 
@@ -153,12 +154,15 @@ Scene conservative_scene(const Scene& scene, bool* gravity_kept) {
     m.friction = 0;
     m.rolling_friction = 0;
     m.surface_energy = 0;
-    m.surface_tension = 0;
-    if (s.contact.normal == "eepa") {
-      m.eepa_k2 = m.eepa_k1;
-      m.eepa_k_adh = 0;
-      m.eepa_f0 = 0;
-    }
+    // Every attractive parameter a component declares (liquid bridges, EEPA's adhesive branch) off.
+    models::for_each_component([&](auto component) {
+      using C = typename decltype(component)::type;
+      models::for_each_material_parameter<C>([&](const char* block, const models::MaterialParameter& d) {
+        if (d.attractive) m.law_parameters[models::parameter_path(block, d)] = 0;
+      });
+    });
+    // EEPA unloads along its loading line: elastic, no plastic overlap.
+    if (s.contact.normal == "eepa") m.law_parameters["eepa.k2"] = m.law_parameter("eepa.k1", 0);
   }
   for (PairOverrideSpec& p : s.pair_overrides) {
     if (p.restitution >= 0) p.restitution = 1;

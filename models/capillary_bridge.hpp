@@ -12,6 +12,7 @@
 //
 // History (1 Real): [0] bridge alive flag (0 or 1).
 #include "models/contact_law.hpp"
+#include "models/material_parameters.hpp"
 
 namespace cgdem::models {
 
@@ -19,6 +20,31 @@ struct CapillaryBridge {
   static constexpr int history_size = 1;
   static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "capillary";
+
+  // Host side: materials.<name>.capillary: {surface_tension, contact_angle (degrees), liquid_fraction,
+  // liquid_volume, min_separation}.
+  static constexpr const char* material_block = "capillary";
+  static constexpr const char* material_example =
+      "capillary: {surface_tension: 0.072, contact_angle: 0, liquid_fraction: 0.00415}";
+  static constexpr MaterialParameter material_parameters[] = {
+      {"surface_tension", &PairParameters::surface_tension, Mix::geometric_mean, Scales::no, true, 0, 0,
+       kUnbounded, true, false, false, "give the surface tension in N/m, e.g. 0.072"},
+      {"contact_angle", &PairParameters::contact_angle, Mix::mean, Scales::no, true, 0, 0, 90, true, false,
+       true, "give the wetting angle in degrees, 0 <= angle < 90 (a bridge needs a wetting liquid)"},
+      {"liquid_fraction", &PairParameters::liquid_fraction, Mix::max, Scales::no, true, 0, 0, kUnbounded,
+       true, false, false, "give the liquid fraction >= 0"},
+      {"liquid_volume", &PairParameters::liquid_volume, Mix::max, Scales::no, true, 0, 0, kUnbounded, true,
+       false, false, "give the liquid volume per bridge >= 0 in m^3"},
+      {"min_separation", &PairParameters::min_separation, Mix::max, Scales::no, false, 1e-6, 0, kUnbounded,
+       false, false, false, "give the minimum separation in m, e.g. 1e-6"},
+  };
+  static const char* material_missing(const MaterialSpec& m) {
+    const bool liquid = m.law_parameter("capillary.liquid_fraction", 0) > 0 ||
+                        m.law_parameter("capillary.liquid_volume", 0) > 0;
+    return m.law_parameter("capillary.surface_tension", 0) > 0 && liquid
+               ? nullptr
+               : "capillary.surface_tension and liquid_fraction or liquid_volume";
+  }
 
   KOKKOS_INLINE_FUNCTION static Real liquid_volume(const PairParameters& p, Real V_i, Real V_j) {
     return p.liquid_volume > 0 ? p.liquid_volume : p.liquid_fraction * (V_i + V_j);

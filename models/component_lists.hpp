@@ -12,6 +12,7 @@
 #include "models/jkr_full.hpp"
 #include "models/linear_eepa.hpp"
 #include "models/linear_spring_dashpot.hpp"
+#include "models/material_parameters.hpp"
 #include "models/mindlin_tangential.hpp"
 #include "models/rolling_resistance.hpp"
 
@@ -25,6 +26,25 @@ struct TypeTag {
   using type = T;
 };
 
+template <class... T>
+constexpr int list_size(TypeList<T...>) {
+  return static_cast<int>(sizeof...(T));
+}
+
+// The I-th type of a list.
+template <int I, class List>
+struct TypeAtImpl;
+template <int I, class T, class... Rest>
+struct TypeAtImpl<I, TypeList<T, Rest...>> {
+  using type = typename TypeAtImpl<I - 1, TypeList<Rest...>>::type;
+};
+template <class T, class... Rest>
+struct TypeAtImpl<0, TypeList<T, Rest...>> {
+  using type = T;
+};
+template <int I, class List>
+using TypeAt = typename TypeAtImpl<I, List>::type;
+
 // Calls f(TypeTag<T>{}) for every T of the list, in order.
 template <class... T, class F>
 void for_each_type(TypeList<T...>, F&& f) {
@@ -35,6 +55,41 @@ using NormalLaws = TypeList<HertzTsuji, LinearSpringDashpot, JkrFull, LinearEepa
 using AdhesionLaws = TypeList<NoAdhesion, Dmt, CapillaryBridge>;
 using TangentialLaws = TypeList<MindlinTangential, NoFriction>;
 using RollingLaws = TypeList<NoRolling, RollingConstantTorque, RollingSpringDashpot>;
+
+// Calls f(TypeTag<C>{}) for every component of every list (each once: a component is in one list).
+template <class F>
+void for_each_component(F&& f) {
+  for_each_type(NormalLaws{}, f);
+  for_each_type(AdhesionLaws{}, f);
+  for_each_type(TangentialLaws{}, f);
+  for_each_type(RollingLaws{}, f);
+}
+
+// Calls f(TypeTag<C>{}, kind) for each component the contact spec names, kind being its key ("normal",
+// "adhesion", "tangential", "rolling").
+template <class F>
+void for_each_chosen_component(const ContactSpec& c, F&& f) {
+  const auto pick = [&](auto list, const std::string& chosen, const char* kind) {
+    for_each_type(list, [&](auto tag) {
+      if (chosen == decltype(tag)::type::name) f(tag, kind);
+    });
+  };
+  pick(NormalLaws{}, c.normal, "normal");
+  pick(AdhesionLaws{}, c.adhesion, "adhesion");
+  pick(TangentialLaws{}, c.tangential, "tangential");
+  pick(RollingLaws{}, c.rolling, "rolling");
+}
+
+// Whether the normal law of that name is spring-like (models/material_parameters.hpp): the linear
+// oscillator's damping and contact time, no Rayleigh limit.
+inline bool is_spring_like(const std::string& normal) {
+  bool spring = false;
+  for_each_type(NormalLaws{}, [&](auto tag) {
+    using C = typename decltype(tag)::type;
+    if (normal == C::name) spring = IsSpringLike<C>::value;
+  });
+  return spring;
+}
 
 // Why the components named (their YAML names, `name` of each type) make no physical sense together, or
 // "" when they do.

@@ -1,6 +1,7 @@
 #pragma once
 // Linear elasto-plastic adhesive normal contact: EEPA with n = 1 (Thakur; Thakur, Morrissey, Sun, Chen &
-// Ooi 2014), docs/physics.md 3.6. With f0 <= 0 the constant pull-off and delta_p the plastic overlap (history):
+// Ooi 2014), docs/physics.md 3.6. With f0 <= 0 the constant pull-off and delta_p the plastic overlap
+// (history):
 //   virgin loading     f_hys = f0 + k1 delta              when k2 (delta - delta_p) >= k1 delta;
 //                                                          here delta_p = delta (1 - k1/k2) is updated
 //   unloading/reloading f_hys = f0 + k2 (delta - delta_p)  when k1 delta > k2 (delta - delta_p) > -k_adh
@@ -17,6 +18,7 @@
 //
 // History (1 Real): [0] plastic overlap delta_p.
 #include "models/contact_law.hpp"
+#include "models/material_parameters.hpp"
 
 namespace cgdem::models {
 
@@ -25,6 +27,36 @@ struct LinearEepa {
   static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "eepa";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
+
+  // Host side: materials.<name>.eepa: {k1, k2, k_adh, f0}, per contact (Thakur's values are a pair's):
+  // stiffnesses as two half-contacts in series, the pull-off as a geometric mean like a surface energy.
+  static constexpr bool spring_like = true;
+  static Real spring_stiffness(const PairParameters& p) {
+    return p.eepa_k1 > p.eepa_k2 ? p.eepa_k1 : p.eepa_k2;
+  }
+  static constexpr const char* material_block = "eepa";
+  static constexpr const char* material_example = "eepa: {k1: <N/m>, k2: <N/m>, k_adh: <N/m>, f0: <N>}";
+  static constexpr MaterialParameter material_parameters[] = {
+      {"k1", &PairParameters::eepa_k1, Mix::harmonic_mean, Scales::stiffness, false, 0, 0, kUnbounded, false,
+       false, false, "give the loading stiffness k1 in N/m"},
+      {"k2", &PairParameters::eepa_k2, Mix::harmonic_mean, Scales::stiffness, false, 0, 0, kUnbounded, false,
+       false, false, "give the unloading stiffness k2 in N/m"},
+      {"k_adh", &PairParameters::eepa_k_adh, Mix::harmonic_mean, Scales::stiffness, true, 0, 0, kUnbounded,
+       true, false, false, "give the adhesive stiffness k_adh >= 0 in N/m"},
+      {"f0", &PairParameters::eepa_f0, Mix::geometric_mean, Scales::pull_off, true, 0, -kUnbounded, 0, false,
+       true, false, "f0 is the constant pull-off force and must be <= 0 (N)"},
+  };
+  static const char* material_missing(const MaterialSpec& m) {
+    return m.law_parameter("eepa.k1", 0) > 0 && m.law_parameter("eepa.k2", 0) > 0 ? nullptr
+                                                                                  : "eepa.k1 and eepa.k2";
+  }
+  // A problem between the keys (the key it names, what is wrong, the fix), or none.
+  static MaterialProblem material_problem(const MaterialSpec& m) {
+    const auto k1 = m.law_parameters.find("eepa.k1"), k2 = m.law_parameters.find("eepa.k2");
+    if (k1 == m.law_parameters.end() || k2 == m.law_parameters.end() || k2->second >= k1->second) return {};
+    return {"k2", "k2 = " + short_number(k2->second) + " is below k1 = " + short_number(k1->second),
+            "the unloading stiffness k2 must be at least the loading stiffness k1"};
+  }
 
   KOKKOS_INLINE_FUNCTION NormalResult operator()(const PairParameters& p, const PairState& s, Real* h) const {
     NormalResult r;

@@ -4,6 +4,7 @@
 // t_c = pi / sqrt(k_n/m* - (c_n / 2m*)^2).
 // Tangential stiffness k_t (2/7 k_n when the scene leaves it out) with the same damping ratio.
 #include "models/contact_law.hpp"
+#include "models/material_parameters.hpp"
 
 namespace cgdem::models {
 
@@ -12,6 +13,25 @@ struct LinearSpringDashpot {
   static constexpr bool history_antisymmetric = false;
   static constexpr const char* name = "linear";
   static Real interaction_range(const PairParameters&, Real, Real) { return 0; }
+
+  // Host side: materials.<name>.spring: {normal, tangential}, each material's spring in series.
+  static constexpr bool spring_like = true;
+  static Real spring_stiffness(const PairParameters& p) { return p.k_n; }
+  static constexpr const char* material_block = "spring";
+  static constexpr const char* material_example = "spring: {normal: <N/m>, tangential: <N/m>}";
+  static constexpr MaterialParameter material_parameters[] = {
+      {"normal", &PairParameters::k_n, Mix::series, Scales::stiffness, false, 0, 0, kUnbounded, false, false,
+       false, "give the normal spring stiffness in N/m"},
+      {"tangential", &PairParameters::k_t, Mix::series, Scales::stiffness, false, 0, 0, kUnbounded, true,
+       false, false, "give the tangential stiffness >= 0 in N/m"},
+  };
+  static const char* material_missing(const MaterialSpec& m) {
+    return m.law_parameter("spring.normal", 0) > 0 ? nullptr : "spring.normal";
+  }
+  // k_t = 2/7 k_n when the materials leave it out.
+  static void finish_pair(PairParameters& p) {
+    if (p.k_t <= 0) p.k_t = 2.0 / 7.0 * p.k_n;
+  }
 
   KOKKOS_INLINE_FUNCTION NormalResult operator()(const PairParameters& p, const PairState& s, Real*) const {
     NormalResult r;

@@ -1,6 +1,7 @@
 #include "setup/materials.hpp"
 #include <cmath>
 #include "setup/restitution.hpp"
+#include "models/component_lists.hpp"
 #include "models/jkr_relation.hpp"
 
 namespace cgdem {
@@ -8,18 +9,13 @@ namespace cgdem {
 namespace {
 // Pair value of a per-material coefficient: the mean, so that like pairs keep their own value.
 double mean(double x, double y) {
-  return 0.5 * (x + y);
-}
-// Per-contact value of a per-contact stiffness given by each material (EEPA): the harmonic mean, i.e. two
-// half-contacts in series; like pairs keep their own value, and a zero of either side gives zero.
-double harmonic_mean(double x, double y) {
-  return x > 0 && y > 0 ? 2 * x * y / (x + y) : 0.0;
+  return models::mix_values(models::Mix::mean, x, y);
 }
 } // namespace
 
 double damping_coefficient(double restitution, const ContactSpec& contact, double surface_energy) {
   const double beta = restitution_beta(restitution);
-  if (contact.normal == "linear" || contact.normal == "eepa") return -2 * beta; // exact for a linear spring
+  if (models::is_spring_like(contact.normal)) return -2 * beta; // exact for a linear spring
   if (contact.damping == "beta_formula") return -2 * std::sqrt(5.0 / 6.0) * beta;
   const bool jkr = contact.normal == "jkr" && surface_energy > 0;
   // Adhesive pairs rebound with e at the impact speed the scene names (setup/restitution.hpp).
@@ -53,30 +49,24 @@ models::PairParameters mix_pair(const MaterialSpec& a, const MaterialSpec& b, bo
   p.restitution = std::min(a.restitution, b.restitution);
   p.mu_slide = mean(a.friction, b.friction);
   p.mu_roll = mean(a.rolling_friction, b.rolling_friction);
-  // Linear spring-dashpot: each material's spring in series; k_t = 2/7 k_n by default.
-  const auto series = [](double x, double y) { return x > 0 && y > 0 ? x * y / (x + y) : std::max(x, y); };
-  p.k_n = series(a.spring_normal, b.spring_normal);
-  p.k_t = series(a.spring_tangential, b.spring_tangential);
-  if (p.k_t <= 0) p.k_t = 2.0 / 7.0 * p.k_n;
-  // EEPA: Thakur's stiffnesses and pull-off are per contact.
-  p.eepa_k1 = harmonic_mean(a.eepa_k1, b.eepa_k1);
-  p.eepa_k2 = harmonic_mean(a.eepa_k2, b.eepa_k2);
-  p.min_separation = std::max(a.min_separation, b.min_separation);
+  // Each component's own parameters, by its declarations (models/material_parameters.hpp); attractive
+  // ones only where the pair is adhesive.
+  models::for_each_component([&](auto component) {
+    using C = typename decltype(component)::type;
+    models::for_each_material_parameter<C>([&](const char* block, const models::MaterialParameter& d) {
+      p.*d.pair = d.attractive && !adhesive ? 0
+                                            : models::mix_values(d.mix, models::material_value(a, block, d),
+                                                                 models::material_value(b, block, d));
+    });
+    if constexpr (models::HasFinishPair<C>::value) C::finish_pair(p);
+  });
   if (contact.jkr_separation == "pull_off")
     p.jkr_separation_overlap = models::jkr::d_C;
   else if (contact.jkr_separation == "contact_loss")
     p.jkr_separation_overlap = 0;
   else
     p.jkr_separation_overlap = models::jkr::d_S;
-  if (adhesive) {
-    p.surface_energy = std::sqrt(a.surface_energy * b.surface_energy);
-    p.eepa_k_adh = harmonic_mean(a.eepa_k_adh, b.eepa_k_adh);
-    p.eepa_f0 = -std::sqrt(a.eepa_f0 * b.eepa_f0); // both <= 0: geometric mean, like the surface energy
-    p.surface_tension = std::sqrt(a.surface_tension * b.surface_tension);
-    p.contact_angle = mean(a.contact_angle, b.contact_angle);
-    p.liquid_volume = std::max(a.liquid_volume, b.liquid_volume);
-    p.liquid_fraction = std::max(a.liquid_fraction, b.liquid_fraction);
-  }
+  if (adhesive) p.surface_energy = std::sqrt(a.surface_energy * b.surface_energy);
   p.damping = damping_coefficient(p.restitution, contact, p.surface_energy);
   return p;
 }

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <stdexcept>
 #include "setup/materials.hpp"
+#include "models/component_lists.hpp"
 #include "models/scaling/direct_force_scaling.hpp"
 
 namespace cgdem {
@@ -87,17 +88,41 @@ ParameterScaling parameter_scaling(ScalingLaw law, double k) {
   return s;
 }
 
+namespace {
+// The factor of `s` that multiplies a component parameter declared to scale as `scales`.
+double factor_of(const ParameterScaling& s, models::Scales scales) {
+  switch (scales) {
+  case models::Scales::stiffness:
+    return s.stiffness;
+  case models::Scales::pull_off:
+    return s.pull_off;
+  case models::Scales::no:
+    break;
+  }
+  return 1;
+}
+
+// Calls f(block, declaration) for every component parameter that scales.
+template <class F>
+void for_each_scaled_parameter(F&& f) {
+  models::for_each_component([&](auto component) {
+    using C = typename decltype(component)::type;
+    models::for_each_material_parameter<C>([&](const char* block, const models::MaterialParameter& d) {
+      if (d.scales != models::Scales::no) f(block, d);
+    });
+  });
+}
+} // namespace
+
 MaterialSpec scale_material(const MaterialSpec& original, ScalingLaw law, double k) {
   const ParameterScaling s = parameter_scaling(law, k);
   MaterialSpec m = original;
   m.surface_energy *= s.surface_energy;
   m.youngs_modulus *= s.youngs_modulus;
-  m.eepa_k1 *= s.stiffness;
-  m.eepa_k2 *= s.stiffness;
-  m.eepa_k_adh *= s.stiffness;
-  m.spring_normal *= s.stiffness;
-  m.spring_tangential *= s.stiffness;
-  m.eepa_f0 *= s.pull_off;
+  for_each_scaled_parameter([&](const char* block, const models::MaterialParameter& d) {
+    const auto it = m.law_parameters.find(models::parameter_path(block, d));
+    if (it != m.law_parameters.end()) it->second *= factor_of(s, d.scales);
+  });
   return m;
 }
 
@@ -107,12 +132,8 @@ models::PairParameters scale_pair(const models::PairParameters& original, Scalin
   p.surface_energy *= s.surface_energy;
   p.E_eff *= s.youngs_modulus;
   p.G_eff *= s.youngs_modulus;
-  p.eepa_k1 *= s.stiffness;
-  p.eepa_k2 *= s.stiffness;
-  p.eepa_k_adh *= s.stiffness;
-  p.k_n *= s.stiffness;
-  p.k_t *= s.stiffness;
-  p.eepa_f0 *= s.pull_off;
+  for_each_scaled_parameter(
+      [&](const char*, const models::MaterialParameter& d) { p.*d.pair *= factor_of(s, d.scales); });
   p.coarse_grain_factor = k;
   return p;
 }
@@ -170,7 +191,7 @@ void check_scaling(const Scene& scene) {
       throw std::invalid_argument("coarse_grain law '" + g.coarse_grain.law + "' of group '" + g.name +
                                   "' differs from the scene's '" + scaling_law_name(law) + "'");
   const std::string& normal = scene.contact.normal;
-  const bool spring = normal == "eepa" || normal == "linear";
+  const bool spring = models::is_spring_like(normal);
   const bool thakur =
       law == ScalingLaw::Thakur || law == ScalingLaw::ThakurF0Linear || law == ScalingLaw::ThakurF0Cubic;
   if (thakur && !spring)

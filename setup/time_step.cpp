@@ -5,6 +5,7 @@
 #include <sstream>
 #include "setup/materials.hpp"
 #include "setup/scaling.hpp"
+#include "models/component_lists.hpp"
 
 namespace cgdem {
 
@@ -60,8 +61,15 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   e.contact_time = inf;
   std::string tr_material, tc_pair, accuracy_pair;
   double accuracy = inf;
-  const bool linear = scene.contact.normal == "linear";
-  const bool eepa = scene.contact.normal == "eepa";
+  // Spring-like normal laws (linear, EEPA) have a contact time from their stiffness and no Rayleigh limit.
+  const bool spring = models::is_spring_like(scene.contact.normal);
+  double (*spring_stiffness)(const models::PairParameters&) = nullptr;
+  models::for_each_type(models::NormalLaws{}, [&](auto normal) {
+    using C = typename decltype(normal)::type;
+    if constexpr (models::IsSpringLike<C>::value)
+      if (scene.contact.normal == C::name)
+        spring_stiffness = [](const models::PairParameters& p) { return double(C::spring_stiffness(p)); };
+  });
   // Parameters the limit is evaluated with, for an original pair P at pair factor k.
   const auto evaluated = [&](const models::PairParameters& P, double k) {
     if (on_originals) return P;
@@ -70,9 +78,12 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
     const double hp = std::pow(k, ex.hertz_modulus_power()), sp = std::pow(k, ex.spring_power());
     q.E_eff *= hp;
     q.G_eff *= hp;
-    q.k_n *= sp;
-    q.eepa_k1 *= sp;
-    q.eepa_k2 *= sp;
+    models::for_each_component([&](auto component) {
+      using C = typename decltype(component)::type;
+      models::for_each_material_parameter<C>([&](const char*, const models::MaterialParameter& d) {
+        if (d.scales == models::Scales::stiffness) q.*d.pair *= sp;
+      });
+    });
     return q;
   };
   const auto slot_name = [&](std::size_t a) {
@@ -84,7 +95,7 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
     if (!(rmin[a] < inf)) continue;
     const MaterialSpec& ma = scene.materials[slots[a].material];
     const double ka = slots[a].factor;
-    if (!linear && !eepa && ma.youngs_modulus > 0) {
+    if (!spring && ma.youngs_modulus > 0) {
       double tr;
       if (on_originals)
         tr = rayleigh_time(rmin[a] / ka, rho[a], ma.youngs_modulus, ma.poisson_ratio) *
@@ -115,11 +126,10 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
       }
       const models::PairParameters p = evaluated(mix_pair(ma, mb, false, scene.contact), k);
       double tc = inf;
-      if (linear && p.k_n > 0)
-        tc = M_PI * std::sqrt(m_eff / p.k_n);
-      else if (eepa && std::max(p.eepa_k1, p.eepa_k2) > 0)
-        tc = M_PI * std::sqrt(m_eff / std::max(p.eepa_k1, p.eepa_k2));
-      else if (p.E_eff > 0)
+      if (spring) {
+        const double stiffness = spring_stiffness(p);
+        if (stiffness > 0) tc = M_PI * std::sqrt(m_eff / stiffness);
+      } else if (p.E_eff > 0)
         tc = hertz_contact_time(m_eff, r_eff, p.E_eff, speed);
       if (law == ScalingLaw::HuMethod1) tc *= k;
       const models::PairParameters adh =
@@ -174,7 +184,7 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   std::ostringstream why;
   if (by_contact <= by_rayleigh)
     why << "contact time / 10 of " << tc_pair << " (" << scene.contact.normal << ", t_c = " << e.contact_time
-        << " s" << (linear || eepa ? "" : " at " + std::to_string(speed) + " m/s") << ")";
+        << " s" << (spring ? "" : " at " + std::to_string(speed) + " m/s") << ")";
   else
     why << "0.3 x Rayleigh time of " << tr_material << " (T_R = " << e.rayleigh_time << " s)";
   if (!e.rule.empty()) why << "; coarse-graining " << e.rule;

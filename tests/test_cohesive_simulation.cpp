@@ -193,9 +193,9 @@ TEST(CapillaryBridgeSimulation, PulledApartSpheresLoseBridgeExactlyAtRuptureDist
   const double r1 = 0.5e-3, r2 = 0.8e-3, rho = 2500, sigma = 0.072, theta = 20 * M_PI / 180;
   const double fraction = 0.083 * 0.05; // Hu: V = 0.083 x 0.05 x (V_i + V_j)
   MaterialSpec m = material("wet", rho, 5e6, 0.3, 1.0, 0.0);
-  m.surface_tension = sigma;
-  m.contact_angle = theta; // radians in MaterialSpec
-  m.liquid_fraction = fraction;
+  m.law_parameters["capillary.surface_tension"] = sigma;
+  m.law_parameters["capillary.contact_angle"] = theta; // radians in MaterialSpec
+  m.law_parameters["capillary.liquid_fraction"] = fraction;
   Scene s = basic_scene({m}, "hertz", "none");
   s.contact.adhesion = "capillary";
 
@@ -203,7 +203,7 @@ TEST(CapillaryBridgeSimulation, PulledApartSpheresLoseBridgeExactlyAtRuptureDist
   const double r_eff = r1 * r2 / (r1 + r2);
   const double volume = fraction * 4.0 / 3.0 * M_PI * (r1 * r1 * r1 + r2 * r2 * r2);
   const double s_rup = (1 + 0.5 * theta) * std::cbrt(volume);
-  const double s_min = m.min_separation;
+  const double s_min = m.law_parameter("capillary.min_separation", 1e-6);
   // Start touching (overlap 1 nm: the bridge forms, the Hertz push is ~1e-9 N) and separating at
   // 0.5 m/s relative; the bridge takes ~ 1e-8 J of the 8e-8 J kinetic energy.
   const double v0 = 0.5, overlap0 = 1e-9;

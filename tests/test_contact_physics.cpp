@@ -15,7 +15,8 @@ struct ImpactResult {
 
 // Two spheres approaching along x at relative speed v (or one sphere onto a plane at x = 0 when
 // radius2 == 0); returns the measured maximum overlap, contact time and restitution.
-ImpactResult impact(const MaterialSpec& mat, double r1, double r2, double v, int steps_per_contact, bool linear = false) {
+ImpactResult impact(const MaterialSpec& mat, double r1, double r2, double v, int steps_per_contact,
+                    bool linear = false) {
   Scene s = basic_scene({mat}, linear ? "linear" : "hertz", "none");
   ParticleSet p;
   const double rho = mat.density;
@@ -38,7 +39,7 @@ ImpactResult impact(const MaterialSpec& mat, double r1, double r2, double v, int
     m_eff = m1;
     r_eff = r1;
   }
-  const double k_n = mat.spring_normal * (r2 > 0 ? 0.5 : 1.0);
+  const double k_n = mat.law_parameter("spring.normal", 0) * (r2 > 0 ? 0.5 : 1.0);
   const double e_eff = mat.youngs_modulus / (2 * (1 - mat.poisson_ratio * mat.poisson_ratio));
   const double tc = linear ? M_PI * std::sqrt(m_eff / k_n) : hertz_contact_time(m_eff, r_eff, e_eff, v);
   const double dt = tc / steps_per_contact;
@@ -107,7 +108,7 @@ TEST(HertzImpact, SpherePlaneMatchesRaman) {
     const double v = 1.0;
     const ImpactResult res = impact(m, r, 0, v, 400);
     const double mass = 2500 * 4.0 / 3.0 * M_PI * r * r * r;
-    const double e_eff = 5e6 / (2 * (1 - 0.09));  // the wall has the same E and nu
+    const double e_eff = 5e6 / (2 * (1 - 0.09)); // the wall has the same E and nu
     EXPECT_NEAR(res.max_overlap / hertz_max_overlap(mass, r, e_eff, v), 1.0, 0.01);
     EXPECT_NEAR(res.contact_time / hertz_contact_time(mass, r, e_eff, v), 1.0, 0.01);
     EXPECT_NEAR(res.restitution, 1.0, 1e-3);
@@ -117,7 +118,7 @@ TEST(HertzImpact, SpherePlaneMatchesRaman) {
 TEST(LinearSpringDashpot, RestitutionEqualsInput) {
   for (double e : {0.3, 0.6, 0.9}) {
     MaterialSpec m = material("lsd", 2500, 5e6, 0.3, e, 0.0);
-    m.spring_normal = 2000;  // series of two equals: k_n = 1000 N/m for the pair
+    m.law_parameters["spring.normal"] = 2000; // series of two equals: k_n = 1000 N/m for the pair
     for (double v : {0.1, 1.0}) {
       const ImpactResult res = impact(m, 1e-3, 1e-3, v, 2000, true);
       EXPECT_NEAR(res.restitution / e, 1.0, 0.005) << "e=" << e << " v=" << v;
@@ -132,7 +133,8 @@ TEST(HertzTsuji, RestitutionReportedAtThreeVelocities) {
   for (double v : {0.1, 1.0, 5.0}) {
     const ImpactResult res = impact(m, 0.5e-3, 0.5e-3, v, 1000);
     achieved.push_back(res.restitution);
-    std::printf("[ report ] Hertz-Tsuji e_input %.3f: v = %.1f m/s -> achieved e = %.5f\n", e_in, v, res.restitution);
+    std::printf("[ report ] Hertz-Tsuji e_input %.3f: v = %.1f m/s -> achieved e = %.5f\n", e_in, v,
+                res.restitution);
   }
   // Tsuji damping makes e independent of velocity; beta(e) is exact only for the linear model.
   EXPECT_NEAR(achieved[0], achieved[2], 2e-3);
@@ -155,7 +157,7 @@ TEST(Friction, SlidingSphereReachesAndHoldsCoulombLimit) {
   ParticleSet p;
   add_particle(p, {0, 0, r - 2e-7}, {0, 0, 0}, r, 2500);
   auto engine = make(s, p, 2e-6);
-  engine->advance(20000);  // settle on the floor (damped bounce)
+  engine->advance(20000); // settle on the floor (damped bounce)
   // Launch sliding: restart from a checkpoint with the velocity replaced.
   CheckpointData c = engine->checkpoint();
   c.reals["velocity"][0] = v0;
@@ -174,5 +176,5 @@ TEST(Friction, SlidingSphereReachesAndHoldsCoulombLimit) {
   }
   EXPECT_GT(sliding_steps, 20);
   const FrameData f = engine->frame();
-  EXPECT_NEAR(f.velocity[0] / v0, 5.0 / 7.0, 0.01);  // rolling without slip at the end
+  EXPECT_NEAR(f.velocity[0] / v0, 5.0 / 7.0, 0.01); // rolling without slip at the end
 }

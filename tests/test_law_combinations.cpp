@@ -54,15 +54,15 @@ MaterialSpec all_parameters(const std::string& name) {
   MaterialSpec m = material(name, 2500, 1e7, 0.3, 0.5, 0.4);
   m.rolling_friction = 0.1;
   m.surface_energy = 0.02;
-  m.eepa_k1 = 2e3;
-  m.eepa_k2 = 1e4;
-  m.eepa_k_adh = 5e2;
-  m.eepa_f0 = -1e-5;
-  m.spring_normal = 2e3;
-  m.spring_tangential = 2e3 * 2.0 / 7.0;
-  m.surface_tension = 0.072;
-  m.contact_angle = 0.3;
-  m.liquid_fraction = 0.01;
+  m.law_parameters["eepa.k1"] = 2e3;
+  m.law_parameters["eepa.k2"] = 1e4;
+  m.law_parameters["eepa.k_adh"] = 5e2;
+  m.law_parameters["eepa.f0"] = -1e-5;
+  m.law_parameters["spring.normal"] = 2e3;
+  m.law_parameters["spring.tangential"] = 2e3 * 2.0 / 7.0;
+  m.law_parameters["capillary.surface_tension"] = 0.072;
+  m.law_parameters["capillary.contact_angle"] = 0.3;
+  m.law_parameters["capillary.liquid_fraction"] = 0.01;
   return m;
 }
 

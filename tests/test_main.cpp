@@ -5,8 +5,8 @@
 
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
-  setenv("OMP_PROC_BIND", "false", 0);  // tests share the machine with other processes
-  
+  setenv("OMP_PROC_BIND", "false", 0); // tests share the machine with other processes
+
   Kokkos::ScopeGuard kokkos(argc, argv);
   return RUN_ALL_TESTS();
 }

@@ -14,10 +14,10 @@ namespace {
 
 MaterialSpec eepa_material(const std::string& name, double k1, double k2, double k_adh, double f0) {
   MaterialSpec m = material(name, 2000, 0, 0.3, 0.5, 0.5);
-  m.eepa_k1 = k1;
-  m.eepa_k2 = k2;
-  m.eepa_k_adh = k_adh;
-  m.eepa_f0 = f0;
+  m.law_parameters["eepa.k1"] = k1;
+  m.law_parameters["eepa.k2"] = k2;
+  m.law_parameters["eepa.k_adh"] = k_adh;
+  m.law_parameters["eepa.f0"] = f0;
   return m;
 }
 

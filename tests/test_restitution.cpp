@@ -27,9 +27,9 @@ double measured_restitution(Scene s, bool wall, double v, int steps_per_contact,
     MaterialSpec steel = m;
     steel.name = "steel";
     steel.youngs_modulus *= 1000;
-    steel.spring_normal *= 1000;
-    steel.eepa_k1 *= 1000;
-    steel.eepa_k2 *= 1000;
+    steel.law_parameters["spring.normal"] *= 1000;
+    steel.law_parameters["eepa.k1"] *= 1000;
+    steel.law_parameters["eepa.k2"] *= 1000;
     s.materials.push_back(steel);
     WallSpec w;
     w.name = "wall";
@@ -65,9 +65,9 @@ double measured_restitution(Scene s, bool wall, double v, int steps_per_contact,
 
 Scene law_scene(const std::string& normal, double e, const std::string& damping = "restitution") {
   MaterialSpec m = material("beads", 2500, 5e6, 0.3, e, 0.0);
-  m.spring_normal = 2000;
-  m.eepa_k1 = 2000; // k2 = k1, no adhesion: the elastic EEPA, where e is the whole story
-  m.eepa_k2 = 2000;
+  m.law_parameters["spring.normal"] = 2000;
+  m.law_parameters["eepa.k1"] = 2000; // k2 = k1, no adhesion: the elastic EEPA, where e is the whole story
+  m.law_parameters["eepa.k2"] = 2000;
   Scene s = basic_scene({m}, normal, "mindlin");
   s.contact.damping = damping;
   return s;

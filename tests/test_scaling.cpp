@@ -45,10 +45,10 @@ Scene two_group_scene(const std::string& law, double k1, double k2) {
 
 TEST(ScalingLaws, ParameterMultipliersMatchPhysicsTable) {
   MaterialSpec m = sticky("a", 1e7, 0.1);
-  m.eepa_k1 = 100;
-  m.eepa_k2 = 500;
-  m.eepa_k_adh = 50;
-  m.eepa_f0 = -1e-3;
+  m.law_parameters["eepa.k1"] = 100;
+  m.law_parameters["eepa.k2"] = 500;
+  m.law_parameters["eepa.k_adh"] = 50;
+  m.law_parameters["eepa.f0"] = -1e-3;
   const double k = 3;
   const MaterialSpec ce = scale_material(m, ScalingLaw::ChenElliott, k);
   EXPECT_DOUBLE_EQ(ce.surface_energy, 0.1 * 9);
@@ -57,18 +57,18 @@ TEST(ScalingLaws, ParameterMultipliersMatchPhysicsTable) {
   EXPECT_DOUBLE_EQ(scale_material(m, ScalingLaw::Bond, k).youngs_modulus, 1e7);
   EXPECT_NEAR(scale_material(m, ScalingLaw::Cohesion, k).surface_energy, 0.1 * std::pow(3.0, 1.6), 1e-15);
   const MaterialSpec th = scale_material(m, ScalingLaw::Thakur, k);
-  EXPECT_DOUBLE_EQ(th.eepa_k1, 300);
-  EXPECT_DOUBLE_EQ(th.eepa_k2, 1500);
-  EXPECT_DOUBLE_EQ(th.eepa_k_adh, 150);
-  EXPECT_DOUBLE_EQ(th.eepa_f0, -9e-3);
+  EXPECT_DOUBLE_EQ(th.law_parameter("eepa.k1", 0), 300);
+  EXPECT_DOUBLE_EQ(th.law_parameter("eepa.k2", 0), 1500);
+  EXPECT_DOUBLE_EQ(th.law_parameter("eepa.k_adh", 0), 150);
+  EXPECT_DOUBLE_EQ(th.law_parameter("eepa.f0", 0), -9e-3);
   EXPECT_DOUBLE_EQ(th.youngs_modulus, 1e7);
   // Thakur's rejected alternatives: the same stiffnesses, f0 as k and k^3.
   const MaterialSpec lin = scale_material(m, ScalingLaw::ThakurF0Linear, k);
   const MaterialSpec cub = scale_material(m, ScalingLaw::ThakurF0Cubic, k);
-  EXPECT_DOUBLE_EQ(lin.eepa_k1, 300);
-  EXPECT_DOUBLE_EQ(cub.eepa_k_adh, 150);
-  EXPECT_DOUBLE_EQ(lin.eepa_f0, -3e-3);
-  EXPECT_NEAR(cub.eepa_f0, -27e-3, 1e-17);
+  EXPECT_DOUBLE_EQ(lin.law_parameter("eepa.k1", 0), 300);
+  EXPECT_DOUBLE_EQ(cub.law_parameter("eepa.k_adh", 0), 150);
+  EXPECT_DOUBLE_EQ(lin.law_parameter("eepa.f0", 0), -3e-3);
+  EXPECT_NEAR(cub.law_parameter("eepa.f0", 0), -27e-3, 1e-17);
   for (ScalingLaw law : {ScalingLaw::None, ScalingLaw::ChenElliott, ScalingLaw::Bond, ScalingLaw::Cohesion,
                          ScalingLaw::Thakur, ScalingLaw::HuMethod1, ScalingLaw::Sakai}) {
     const MaterialSpec s = scale_material(m, law, k); // rho, nu, mu, mu_r, e unchanged by every law
@@ -199,9 +199,9 @@ using HertzCapillary = models::ContactLaw<models::HertzTsuji, models::CapillaryB
 models::PairParameters original_params() {
   MaterialSpec m = sticky("a", 1e7, 0.2);
   m.restitution = 1; // static: no damping either way
-  m.surface_tension = 0.072;
-  m.liquid_fraction = 0.083 * 0.05;
-  m.min_separation = 1e-7;
+  m.law_parameters["capillary.surface_tension"] = 0.072;
+  m.law_parameters["capillary.liquid_fraction"] = 0.083 * 0.05;
+  m.law_parameters["capillary.min_separation"] = 1e-7;
   return mix_pair(m, m, true, ContactSpec{});
 }
 

@@ -7,6 +7,7 @@
 
 #include "drivers/particle_generation.hpp"
 #include "drivers/scene_parser.hpp"
+#include "setup/materials.hpp"
 
 using namespace cgdem;
 
@@ -129,8 +130,10 @@ TEST(SceneParser, ParsesTheFullLayout) {
   const MaterialSpec& glass = s.materials[static_cast<size_t>(s.material_index("glass"))];
   EXPECT_DOUBLE_EQ(glass.youngs_modulus, 5e6);
   EXPECT_DOUBLE_EQ(glass.rolling_friction, 0.1);
-  EXPECT_NEAR(glass.contact_angle, M_PI / 6, 1e-12); // degrees -> radians
-  EXPECT_DOUBLE_EQ(glass.min_separation, 1e-6);      // default kept
+  EXPECT_NEAR(glass.law_parameter("capillary.contact_angle", 0), M_PI / 6, 1e-12); // degrees -> radians
+  // min_separation not given: the component's declared default (1e-6 m) reaches the pair.
+  EXPECT_EQ(glass.law_parameters.count("capillary.min_separation"), 0u);
+  EXPECT_DOUBLE_EQ(mix_pair(glass, glass, true, s.contact).min_separation, 1e-6);
   EXPECT_EQ(s.contact.normal, "hertz");
   EXPECT_EQ(s.contact.rolling, "constant_torque");
   ASSERT_EQ(s.pair_overrides.size(), 1u);
@@ -310,7 +313,7 @@ TEST(SceneParser, OverridesNestedKeysAndListItems) {
   EXPECT_DOUBLE_EQ(s.walls[1].velocity[2], 0.01);
   EXPECT_EQ(s.groups[1].name, "small");
   EXPECT_EQ(s.contact.normal, "linear");
-  EXPECT_DOUBLE_EQ(s.materials[1].spring_normal, 1000);
+  EXPECT_DOUBLE_EQ(s.materials[1].law_parameter("spring.normal", 0), 1000);
   EXPECT_DOUBLE_EQ(s.stop.kinetic_energy_below, 1e-9);
   // The resolved YAML carries the overrides.
   EXPECT_NE(s.resolved_yaml.find("500"), std::string::npos);

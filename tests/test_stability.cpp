@@ -701,10 +701,10 @@ TEST(StabilityHardCases, LargeFactorsEightAndSixteenKeepEachLawsInvariant) {
     // x k^3) the whole linear EEPA cycle (virgin loading, unloading, adhesive branch, damping) is k^2 the
     // original force; f0 x k or x k^3 breaks it where f0 matters (small overlaps).
     MaterialSpec e = material("eepa", 2000, 1e7, 0.3, 0.5, 0.5);
-    e.eepa_k1 = 1e4;
-    e.eepa_k2 = 5e4;
-    e.eepa_k_adh = 5e3;
-    e.eepa_f0 = -0.4;
+    e.law_parameters["eepa.k1"] = 1e4;
+    e.law_parameters["eepa.k2"] = 5e4;
+    e.law_parameters["eepa.k_adh"] = 5e3;
+    e.law_parameters["eepa.f0"] = -0.4;
     const models::PairParameters po = mix_pair(e, e, true, ContactSpec{});
     const double overlaps[] = {1e-5, 8e-5, 2e-4, 1.2e-4, 3e-5, 5e-6, 1e-6, 1.5e-4};
     auto worst = [&](ScalingLaw law) {

@@ -154,8 +154,8 @@ TEST(StabilityInitialOverlaps, RejectedByDefaultRelaxedWithoutEnergyWhenOptedIn)
   ParticleSet p;
   const double r = 0.5e-3;
   add_particle(p, {0, 0, 0}, {0, 0, 0}, r, 2500);
-  add_particle(p, {1.8 * r, 0, 0}, {0, 0, 0}, r, 2500); // 20% of the radius
-  add_particle(p, {0.9 * r, 1.5 * r, 0}, {0, 0, 0}, r, 2500);  // overlaps both
+  add_particle(p, {1.8 * r, 0, 0}, {0, 0, 0}, r, 2500);       // 20% of the radius
+  add_particle(p, {0.9 * r, 1.5 * r, 0}, {0, 0, 0}, r, 2500); // overlaps both
   try {
     check_particles(s, p);
     FAIL() << "overlap accepted by default";
@@ -170,9 +170,9 @@ TEST(StabilityInitialOverlaps, RejectedByDefaultRelaxedWithoutEnergyWhenOptedIn)
   const RelaxReport rep = relax_overlaps(s, p);
   std::printf("[ report ] relax_initial_overlaps: largest overlap %.3g -> %.3g of the radius in %d sweeps\n",
               rep.initial_max_overlap, rep.final_max_overlap, rep.sweeps);
-  EXPECT_NEAR(rep.initial_max_overlap, 2 - std::sqrt(0.81 + 2.25), 1e-9);  // the third particle and the first
+  EXPECT_NEAR(rep.initial_max_overlap, 2 - std::sqrt(0.81 + 2.25), 1e-9); // the third particle and the first
   EXPECT_LT(rep.final_max_overlap, 1e-6);
-  s.stability.relax_initial_overlaps = false;  // now the strict check passes
+  s.stability.relax_initial_overlaps = false; // now the strict check passes
   EXPECT_NO_THROW(check_particles(s, p));
   TimeStepEstimate e = estimate_time_step(s, p);
   const EngineConfig cfg = make_engine_config(s, p, e);
