@@ -30,27 +30,46 @@ struct PartnerVisitor {
   RadiusView radius;
   Kokkos::View<const int*, typename PositionView::memory_space> cell_of, start, order;
   Real extra_cutoff;
+  Real max_radius; // of any particle: bounds the cut-off of i's pairs, to skip cells beyond it
 
   template <class F>
   KOKKOS_INLINE_FUNCTION void operator()(int i, F&& f) const {
-    const Vec3 xi{position(i, 0), position(i, 1), position(i, 2)};
+    const Vec3 xi = load3(position, i);
     const Real ri = radius(i);
     const int c = cell_of(i);
     const int cx = c % grid.dims[0], cy = (c / grid.dims[0]) % grid.dims[1],
               cz = c / (grid.dims[0] * grid.dims[1]);
+    // How far i is from the faces of its cell: a neighbouring cell lies at least that far along each axis
+    // it is offset on, so a corner or edge cell whose nearest point is beyond the largest cut-off of i's
+    // pairs holds no partner (about a quarter of the stencil in a dense bed). The bound carries a relative
+    // margin far above rounding, so the skipped cells are exactly ones the distance test would reject.
+    const Real cut_max = (ri + max_radius + extra_cutoff) * (1 + 1e-6), cut_max2 = cut_max * cut_max;
+    const Real below[3] = {(xi.x - grid.origin.x) - cx / grid.inv_size.x,
+                           (xi.y - grid.origin.y) - cy / grid.inv_size.y,
+                           (xi.z - grid.origin.z) - cz / grid.inv_size.z};
+    const Real above[3] = {1 / grid.inv_size.x - below[0], 1 / grid.inv_size.y - below[1],
+                           1 / grid.inv_size.z - below[2]};
+    const auto face_gap2 = [&](int axis, int d) {
+      const Real g = d < 0 ? below[axis] : (d > 0 ? above[axis] : 0);
+      return g > 0 ? g * g : Real(0);
+    };
     for (int dz = -1; dz <= 1; ++dz) {
       int z = cz + dz;
       if (z < 0 || z >= grid.dims[2]) {
         if (!domain.periodic[2]) continue;
         z = (z + grid.dims[2]) % grid.dims[2];
       }
+      const Real gap2_z = face_gap2(2, dz);
       for (int dy = -1; dy <= 1; ++dy) {
         int y = cy + dy;
         if (y < 0 || y >= grid.dims[1]) {
           if (!domain.periodic[1]) continue;
           y = (y + grid.dims[1]) % grid.dims[1];
         }
+        const Real gap2_yz = gap2_z + face_gap2(1, dy);
+        if (gap2_yz > cut_max2) continue;
         for (int dx = -1; dx <= 1; ++dx) {
+          if (gap2_yz + face_gap2(0, dx) > cut_max2) continue;
           int x = cx + dx;
           if (x < 0 || x >= grid.dims[0]) {
             if (!domain.periodic[0]) continue;
@@ -64,7 +83,7 @@ struct PartnerVisitor {
           for (int k = first; k < last; ++k) {
             const int j = order(k);
             if (j <= i) continue;
-            const Vec3 d = domain.minimum_image(Vec3{position(j, 0), position(j, 1), position(j, 2)} - xi);
+            const Vec3 d = domain.minimum_image(load3(position, j) - xi);
             const Real cut = ri + radius(j) + extra_cutoff, dist2 = norm2(d);
             if (dist2 < cut * cut) f(j, dist2);
           }
@@ -121,6 +140,9 @@ struct NeighborList {
   int listed_strips[3] = {}; // the y and z strip counts the blocks were ordered for (0: not yet)
   std::vector<int> block_strip_y, block_strip_z; // host: each block's strips, in the claim order
   int num_slots = 0;
+  // The list build's scratch: each particle's first kFound partners, found by the count pass.
+  static constexpr int kFound = 16;
+  Kokkos::View<int*, Mem> found;
 
   // For the force pass's pairs path (ContactForces::Path::pairs; index_partner_slots): the other half of a
   // full list, each particle's slots as the partner, ascending (CSR over the particles), and each slot's
@@ -141,8 +163,8 @@ struct NeighborList {
   std::size_t bytes() const {
     return (offsets.span() + neighbors.span() + block_offsets.span() + block_members.span() +
             block_after_offsets.span() + block_after.span() + block_done.span() + carry_offsets.span() +
-            carry_partner.span() + partner_offsets.span() + partner_slots.span() + partner_fill.span() +
-            slot_active.span()) *
+            found.span() + carry_partner.span() + partner_offsets.span() + partner_slots.span() +
+            partner_fill.span() + slot_active.span()) *
                sizeof(int) +
            gap.span() * sizeof(float) + (history.span() + carry_history.span()) * sizeof(ForceReal) +
            (slot_force.span() + slot_torque.span() + slot_torque_j.span()) * sizeof(Real);
@@ -150,10 +172,11 @@ struct NeighborList {
 
   // Build from bins whose `order` lists the particles by cell. `old_index(i)` maps a particle's current
   // index to its index when the previous list was built (identity without a reorder).
+  // `max_radius` bounds every particle's radius (the visitor skips stencil cells beyond the largest cut-off).
   template <class PositionView, class RadiusView, class OldIndexView>
   void build(const Domain& domain, const CellGrid& grid, const CellBins<ExecSpace>& bins,
-             const PositionView& position, const RadiusView& radius, Real extra_cutoff, Real reach, int n,
-             const OldIndexView& old_index, bool have_old) {
+             const PositionView& position, const RadiusView& radius, Real extra_cutoff, Real max_radius,
+             Real reach, int n, const OldIndexView& old_index, bool have_old) {
     if constexpr (H > 0)
       if (have_old) carry_nonzero_history(n);
     if (static_cast<int>(offsets.extent(0)) != n + 1)
@@ -165,13 +188,23 @@ struct NeighborList {
     const auto offs = offsets;
 
     // Visit the partners j > i of particle i in deterministic order (PartnerVisitor).
-    const PartnerVisitor<PositionView, RadiusView> visit{domain,  grid,  position, radius,
-                                                         cell_of, start, order,    extra_cutoff};
+    const PartnerVisitor<PositionView, RadiusView> visit{domain, grid,  position,     radius,    cell_of,
+                                                         start,  order, extra_cutoff, max_radius};
 
+    // The stencil is walked once: the count pass keeps each particle's first kFound partners, and the fill
+    // pass takes them from there (their separations recomputed, the same bits as the visit's); only a
+    // particle with more partners is visited again.
+    if (static_cast<int>(found.extent(0)) < n * kFound)
+      found = Kokkos::View<int*, Mem>("cgdem::kernels::nl_found", std::size_t(n) * kFound);
+    const auto found_j = found;
     Kokkos::parallel_for(
         "cgdem::kernels::nl_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
           int cnt = 0;
-          visit(i, [&](int, Real) { ++cnt; });
+          int* mine = found_j.data() + std::size_t(i) * kFound;
+          visit(i, [&](int j, Real) {
+            if (cnt < kFound) mine[cnt] = j;
+            ++cnt;
+          });
           offs(i + 1) = cnt;
         });
     const int total = counts_to_offsets(offs, n, "cgdem::kernels::nl_scan");
@@ -190,7 +223,7 @@ struct NeighborList {
           // costs about one per touching pair (contacts outlive a build). The others follow, ordered below.
           int front = offs(i), back = offs(i + 1);
           const Real ri = radius(i);
-          visit(i, [&](int j, Real dist2) {
+          const auto place = [&](int j, Real dist2) {
             const Real touch = ri + radius(j);
             const float g = gap_beyond_reach(dist2, touch + reach);
             if (dist2 < touch * touch) {
@@ -200,7 +233,16 @@ struct NeighborList {
               gaps(--back) = g;
               neigh(back) = j;
             }
-          });
+          };
+          const int cnt = back - front;
+          if (cnt <= kFound) {
+            const Vec3 xi = load3(position, i);
+            const int* mine = found_j.data() + std::size_t(i) * kFound;
+            for (int k = 0; k < cnt; ++k)
+              place(mine[k], norm2(domain.minimum_image(load3(position, mine[k]) - xi)));
+          } else {
+            visit(i, place);
+          }
           for (int a = front, b = offs(i + 1) - 1; a < b; ++a, --b) { // the others back in visiting order
             const int t = neigh(a);
             neigh(a) = neigh(b);

@@ -106,8 +106,8 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
   Kokkos::fence();
   timers_.binning += timer.seconds();
   timer.reset();
-  nl_.build(cfg_.domain, grid_, bins_, store_.position, store_.radius, cutoff_extra_, cfg_.reach, n_,
-            old_index, !first);
+  nl_.build(cfg_.domain, grid_, bins_, store_.position, store_.radius, cutoff_extra_, max_radius_, cfg_.reach,
+            n_, old_index, !first);
   displacement_since_build_ = 0;
   Kokkos::deep_copy(ExecSpace(), store_.position_at_build, store_.position);
   Kokkos::fence();

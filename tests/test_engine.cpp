@@ -95,7 +95,7 @@ BuiltList build_list(const ParticleSet& p, const Domain& domain, double skin, do
   const kernels::CellGrid grid(domain, 2 * swell * rmax + skin, 1L << 20);
   kernels::CellBins<HostExec> bins;
   bins.build(grid, b.x, n);
-  b.nl.build(domain, grid, bins, b.x, b.r, skin, 0.0, n, identity, false);
+  b.nl.build(domain, grid, bins, b.x, b.r, skin, swell * rmax, 0.0, n, identity, false);
   return b;
 }
 
@@ -284,7 +284,7 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   kernels::CellBins<HostExec> bins;
   bins.build(grid, p.position, n);
   kernels::NeighborList<HostExec, ListLaw> nl;
-  nl.build(domain, grid, bins, p.position, p.radius, skin, 0.0, n, identity, false);
+  nl.build(domain, grid, bins, p.position, p.radius, skin, rmax, 0.0, n, identity, false);
   Kokkos::deep_copy(p.position_at_build, p.position);
 
   // Gaps: -1 within reach, then non-decreasing, and never above the true gap.
@@ -422,7 +422,7 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
     kernels::CellBins<Kokkos::Serial> serial_bins;
     serial_bins.build(grid, p.position, n);
     kernels::NeighborList<Kokkos::Serial, ListLaw> serial_nl;
-    serial_nl.build(domain, grid, serial_bins, p.position, p.radius, skin, 0.0, n, identity, false);
+    serial_nl.build(domain, grid, serial_bins, p.position, p.radius, skin, rmax, 0.0, n, identity, false);
     Kokkos::deep_copy(p.position, moved_position);
     ASSERT_EQ(serial_nl.num_slots, nl.num_slots);
     const std::vector<double> serial =
