@@ -27,7 +27,8 @@ struct CellGrid {
       }
       if (total <= max_cells) break;
     }
-    for (int a = 0; a < 3; ++a) inv_size[a] = dims[a] / d.length[a];
+    for (int a = 0; a < 3; ++a)
+      inv_size[a] = dims[a] / d.length[a];
   }
   int count() const { return dims[0] * dims[1] * dims[2]; }
 
@@ -41,13 +42,29 @@ struct CellGrid {
   }
 };
 
+// CSR offsets in place: counts(i + 1) holds the count of row i (counts(0) is ignored); afterwards
+// counts(i) is where row i starts. Returns the total.
+template <class ExecSpace>
+int counts_to_offsets(const Kokkos::View<int*, typename ExecSpace::memory_space>& counts, int n,
+                      const char* label) {
+  int total = 0;
+  Kokkos::parallel_scan(
+      label, Kokkos::RangePolicy<ExecSpace>(0, n + 1),
+      KOKKOS_LAMBDA(int i, int& partial, bool final) {
+        partial += i == 0 ? 0 : counts(i);
+        if (final) counts(i) = partial;
+      },
+      total);
+  return total;
+}
+
 template <class ExecSpace>
 struct CellBins {
   using Mem = typename ExecSpace::memory_space;
   Kokkos::View<int*, Mem> cell_of_particle;
-  Kokkos::View<int*, Mem> cell_start;  // count + 1
+  Kokkos::View<int*, Mem> cell_start; // count + 1
   Kokkos::View<int*, Mem> cell_fill;
-  Kokkos::View<int*, Mem> order;       // particles sorted by cell, index order inside a cell
+  Kokkos::View<int*, Mem> order; // particles sorted by cell, index order inside a cell
 
   std::size_t bytes() const {
     return (cell_of_particle.span() + cell_start.span() + cell_fill.span() + order.span()) * sizeof(int);

@@ -2,9 +2,9 @@
 // Pair and wall forces, deterministic without atomics on the forces. Two ways to share the pairs among
 // threads (`Path`), the same physics:
 //   blocks (the host's default): the particles are split into blocks of cells, coloured so that two blocks
-//     of one colour never write to the same particle (NeighborList::build_blocks); every particle receives
-//     from the blocks that write to it in the order of their colours (a barrier after each colour, or each
-//     block waiting for its neighbours of earlier colours: `Schedule`), and from a block in its fixed
+//     of one colour never write to the same particle (ForceBlocks, kernels/force_blocks.hpp); every particle
+//     receives from the blocks that write to it in the order of their colours (a barrier after each colour,
+//     or each block waiting for its neighbours of earlier colours: `Schedule`), and from a block in its fixed
 //     particle order. Each particle evaluates the law once for each pair it owns in the half list, in
 //     batches of kLanes pairs side by side (SIMD), and adds the force and torque to itself and the reaction
 //     to the partner. Few blocks, each walked by one thread: right for a few CPU cores.
@@ -23,6 +23,7 @@
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
 #include "core/wall.hpp"
+#include "kernels/force_blocks.hpp"
 #include "models/contact_law.hpp"
 
 namespace cgdem::kernels {
@@ -235,20 +236,22 @@ struct ContactForces {
   // zeroed them); otherwise the blocks path zeroes them first (the pairs path writes every sum whole).
   // The pairs path indexes the list's partner slots first if this build has not (NeighborList).
   template <class NeighborListT>
-  static void compute(const ParticleStore<Mem>& p, NeighborListT& nl, const Inputs& in, Law law, int n,
-                      bool cleared = false, Path path = kDefaultPath, Schedule schedule = kDefaultSchedule) {
+  static void compute(const ParticleStore<Mem>& p, NeighborListT& nl, const ForceBlocks<ExecSpace>& blocks,
+                      const Inputs& in, Law law, int n, bool cleared = false, Path path = kDefaultPath,
+                      Schedule schedule = kDefaultSchedule) {
     if (path == Path::pairs) {
       nl.index_partner_slots(n);
       compute_by_pairs(p, nl, in, law, n);
     } else {
-      compute_by_blocks(p, nl, in, law, n, cleared, schedule);
+      compute_by_blocks(p, nl, blocks, in, law, n, cleared, schedule);
     }
   }
 
   // The blocks path (see the top of this file).
   template <class NeighborListT>
-  static void compute_by_blocks(const ParticleStore<Mem>& p, const NeighborListT& nl, const Inputs& in,
-                                Law law, int n, bool cleared, Schedule schedule) {
+  static void compute_by_blocks(const ParticleStore<Mem>& p, const NeighborListT& nl,
+                                const ForceBlocks<ExecSpace>& blocks, const Inputs& in, Law law, int n,
+                                bool cleared, Schedule schedule) {
     const Domain domain = in.domain;
     const ParamTable pair_params = in.pair_params;
     const Real dt = in.dt, reach = in.reach, max_radius = in.max_radius,
@@ -270,8 +273,8 @@ struct ContactForces {
     // periodic faces: their partners within reach are stored on the same side of every seam, so the
     // separation is the plain difference, the one minimum_image would return. Most of a periodic bed.
     const Domain::Interior interior = domain.interior((2 * max_radius + reach) * (1 + 1e-9));
-    const auto block_offsets = nl.block_offsets;
-    const auto block_members = nl.block_members;
+    const auto block_offsets = blocks.block_offsets;
+    const auto block_members = blocks.block_members;
     // One material (most scenes): no partner's material to fetch.
     const bool one_material = pair_params.extent(0) == 1 && pair_params.extent(1) == 1;
 
@@ -434,11 +437,11 @@ struct ContactForces {
     };
     if constexpr (kHostThreads)
       if (schedule == Schedule::by_neighbours) {
-        const int nblocks = nl.colour_begin[nl.kColours];
-        const auto after_offsets = nl.block_after_offsets;
-        const auto after = nl.block_after;
-        const auto done = nl.block_done;
-        const auto claimed = nl.blocks_claimed;
+        const int nblocks = blocks.colour_begin[blocks.kColours];
+        const auto after_offsets = blocks.block_after_offsets;
+        const auto after = blocks.block_after;
+        const auto done = blocks.block_done;
+        const auto claimed = blocks.blocks_claimed;
         Kokkos::parallel_for(
             "cgdem::kernels::contact_forces_unclaim", Kokkos::RangePolicy<ExecSpace>(0, nblocks),
             KOKKOS_LAMBDA(int b) {
@@ -466,8 +469,8 @@ struct ContactForces {
     // The colours in turn; inside one, the blocks in parallel in dynamic chunks (the work per block varies
     // with its contacts and walls, and which thread takes a block does not change any sum).
     using DynamicRange = Kokkos::RangePolicy<ExecSpace, Kokkos::Schedule<Kokkos::Dynamic>>;
-    for (int colour = 0; colour < nl.kColours; ++colour) {
-      const int first = nl.colour_begin[colour], last = nl.colour_begin[colour + 1];
+    for (int colour = 0; colour < blocks.kColours; ++colour) {
+      const int first = blocks.colour_begin[colour], last = blocks.colour_begin[colour + 1];
       if (first == last) continue;
       Kokkos::parallel_for("cgdem::kernels::contact_forces", DynamicRange(first, last).set_chunk_size(1),
                            block_forces);

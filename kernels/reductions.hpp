@@ -16,7 +16,8 @@ struct SystemSums {
   KOKKOS_INLINE_FUNCTION SystemSums& operator+=(const SystemSums& o) {
     kinetic += o.kinetic;
     rotational += o.rotational;
-    for (int a = 0; a < 3; ++a) momentum[a] += o.momentum[a];
+    for (int a = 0; a < 3; ++a)
+      momentum[a] += o.momentum[a];
     contacts += o.contacts;
     max_speed = max_speed > o.max_speed ? max_speed : o.max_speed;
     return *this;
@@ -40,13 +41,14 @@ SystemSums system_sums(const ParticleStore<typename ExecSpace::memory_space>& p,
     const Vec3 wi{w(i, 0), w(i, 1), w(i, 2)};
     s.kinetic += 0.5 * m(i) * norm2(vi);
     s.rotational += 0.5 * I(i) * norm2(wi);
-    for (int a = 0; a < 3; ++a) s.momentum[a] += m(i) * vi[a];
+    for (int a = 0; a < 3; ++a)
+      s.momentum[a] += m(i) * vi[a];
     pair_slots += c(i);
     s.contacts += cw(i);
     const Real sp = norm(vi);
     if (sp > s.max_speed) s.max_speed = sp;
   }
-  s.contacts += pair_slots / 2;  // each particle-particle contact is seen from both sides
+  s.contacts += pair_slots / 2; // each particle-particle contact is seen from both sides
   return s;
 }
 
@@ -59,7 +61,8 @@ std::vector<Real> wall_forces(const Kokkos::View<Real* [3], typename ExecSpace::
   std::vector<Real> out(3 * num_named, 0.0);
   for (int i = 0; i < n; ++i)
     for (int w = 0; w < parts; ++w)
-      for (int a = 0; a < 3; ++a) out[3 * owner[w] + a] -= f(i * parts + w, a);
+      for (int a = 0; a < 3; ++a)
+        out[3 * owner[w] + a] -= f(i * parts + w, a);
   return out;
 }
 

@@ -130,7 +130,7 @@ public:
   int size() const override { return n_; }
   StepTimers timers() const override { return timers_; }
   std::size_t bytes() const override {
-    return std::size_t(n_) * ParticleStore<Mem>::bytes_per_particle() + nl_.bytes() +
+    return std::size_t(n_) * ParticleStore<Mem>::bytes_per_particle() + nl_.bytes() + blocks_.bytes() +
            wall_history_.span() * sizeof(ForceReal) + reorder_scratch_.span() * sizeof(double) +
            wall_force_record_.span() * sizeof(Real) + bins_.bytes() +
            (identity_.span() + old_index_.span()) * sizeof(int);
@@ -163,6 +163,7 @@ private:
   Kokkos::View<double*, Mem> reorder_scratch_; // one field at a time during a reorder (kernels/reorder.hpp)
   Kokkos::View<Real* [3], Mem> wall_force_record_; // N x wall parts, written on recording steps
   NeighborList<ExecSpace, Law> nl_;
+  ForceBlocks<ExecSpace> blocks_; // the host force pass's schedule, made with each list
   CellBins<ExecSpace> bins_;
   CellGrid grid_;
   Kokkos::View<int*, Mem> identity_;

@@ -108,6 +108,7 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
   timer.reset();
   nl_.build(cfg_.domain, grid_, bins_, store_.position, store_.radius, cutoff_extra_, max_radius_, cfg_.reach,
             n_, old_index, !first);
+  blocks_.build(cfg_.domain, grid_, bins_, n_);
   displacement_since_build_ = 0;
   Kokkos::deep_copy(ExecSpace(), store_.position_at_build, store_.position);
   Kokkos::fence();
@@ -138,7 +139,7 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool cl
   in.reach = cfg_.reach;
   in.max_radius = max_radius_;
   in.max_displacement = displacement_since_build_;
-  Forces::compute(store_, nl_, in, Law{}, n_, cleared, force_path_);
+  Forces::compute(store_, nl_, blocks_, in, Law{}, n_, cleared, force_path_);
   Kokkos::fence();
   timers_.forces += timer.seconds();
 }
@@ -421,7 +422,8 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   displacement_since_build_ = Kokkos::Experimental::infinity<Real>::value;
   // The force pass's blocks from the cells the list was built with (positions at the build).
   bins_.build(grid_, store_.position_at_build, n_);
-  nl_.build_blocks(cfg_.domain, grid_, bins_, n_);
+  blocks_.build(cfg_.domain, grid_, bins_, n_);
+  nl_.partner_slots_indexed = false; // the slots were replaced
   builds_ = static_cast<long>(need(c.scalars, "builds"));
   step_ = c.step;
   time_ = c.time;

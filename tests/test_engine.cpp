@@ -79,6 +79,7 @@ struct BuiltList {
   Kokkos::View<double* [3], Kokkos::HostSpace> x;
   Kokkos::View<double*, Kokkos::HostSpace> r;
   kernels::NeighborList<HostExec, ListLaw> nl;
+  kernels::ForceBlocks<HostExec> blocks;
 };
 BuiltList build_list(const ParticleSet& p, const Domain& domain, double skin, double swell, double rmax) {
   const int n = static_cast<int>(p.size());
@@ -96,6 +97,7 @@ BuiltList build_list(const ParticleSet& p, const Domain& domain, double skin, do
   kernels::CellBins<HostExec> bins;
   bins.build(grid, b.x, n);
   b.nl.build(domain, grid, bins, b.x, b.r, skin, swell * rmax, 0.0, n, identity, false);
+  b.blocks.build(domain, grid, bins, n);
   return b;
 }
 
@@ -141,24 +143,25 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
     const Domain domain({0, 0, 0}, {c.box, c.box, c.box}, true, true, c.periodic_z);
     const BuiltList built = build_list(p, domain, 0.1e-3, 1.0, 0.5e-3);
     const auto& nl = built.nl;
+    const auto& blocks = built.blocks;
 
     int blocks_with_particles = 0;
     std::vector<int> block_of(n, -1);
-    for (int b = 0; b < nl.colour_begin[nl.kColours]; ++b) {
-      blocks_with_particles += nl.block_offsets(b + 1) > nl.block_offsets(b) ? 1 : 0;
-      for (int m = nl.block_offsets(b); m < nl.block_offsets(b + 1); ++m) {
-        ASSERT_EQ(block_of[nl.block_members(m)], -1) << "particle in two blocks";
-        block_of[nl.block_members(m)] = b;
+    for (int b = 0; b < blocks.colour_begin[blocks.kColours]; ++b) {
+      blocks_with_particles += blocks.block_offsets(b + 1) > blocks.block_offsets(b) ? 1 : 0;
+      for (int m = blocks.block_offsets(b); m < blocks.block_offsets(b + 1); ++m) {
+        ASSERT_EQ(block_of[blocks.block_members(m)], -1) << "particle in two blocks";
+        block_of[blocks.block_members(m)] = b;
       }
     }
     for (int i = 0; i < n; ++i)
       ASSERT_GE(block_of[i], 0) << "particle " << i << " in no block";
     EXPECT_GE(blocks_with_particles, 8) << "box " << c.box << ": too few blocks to share between threads";
-    for (int colour = 0; colour < nl.kColours; ++colour) {
+    for (int colour = 0; colour < blocks.kColours; ++colour) {
       std::vector<int> writer(n, -1);
-      for (int b = nl.colour_begin[colour]; b < nl.colour_begin[colour + 1]; ++b)
-        for (int m = nl.block_offsets(b); m < nl.block_offsets(b + 1); ++m) {
-          const int i = nl.block_members(m);
+      for (int b = blocks.colour_begin[colour]; b < blocks.colour_begin[colour + 1]; ++b)
+        for (int m = blocks.block_offsets(b); m < blocks.block_offsets(b + 1); ++m) {
+          const int i = blocks.block_members(m);
           std::vector<int> written{i};
           for (int s = nl.offsets(i); s < nl.offsets(i + 1); ++s)
             written.push_back(nl.neighbors(s));
@@ -173,9 +176,9 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
     // The ordered schedule lets a block start once the blocks in its block_after list are done: every
     // earlier block that writes to a particle it writes to must be there.
     std::vector<std::vector<int>> writers(n);
-    for (int b = 0; b < nl.colour_begin[nl.kColours]; ++b)
-      for (int m = nl.block_offsets(b); m < nl.block_offsets(b + 1); ++m) {
-        const int i = nl.block_members(m);
+    for (int b = 0; b < blocks.colour_begin[blocks.kColours]; ++b)
+      for (int m = blocks.block_offsets(b); m < blocks.block_offsets(b + 1); ++m) {
+        const int i = blocks.block_members(m);
         writers[i].push_back(b);
         for (int s = nl.offsets(i); s < nl.offsets(i + 1); ++s)
           writers[nl.neighbors(s)].push_back(b);
@@ -185,8 +188,8 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
       for (int later : writers[j])
         for (int earlier : writers[j]) {
           if (earlier >= later) continue;
-          const int* first = nl.block_after.data() + nl.block_after_offsets(later);
-          const int* last = nl.block_after.data() + nl.block_after_offsets(later + 1);
+          const int* first = blocks.block_after.data() + blocks.block_after_offsets(later);
+          const int* last = blocks.block_after.data() + blocks.block_after_offsets(later + 1);
           ASSERT_TRUE(std::find(first, last, earlier) != last)
               << "box " << c.box << ": blocks " << earlier << " and " << later << " both write to particle "
               << j << ", but " << later << " would not wait for " << earlier;
@@ -195,19 +198,19 @@ TEST(NeighborList, ColouredBlocksNeverShareAParticleWithinAColour) {
     EXPECT_GT(waits, 0);
     // The claim order: a colour's first block waits for the previous colour's last one (likely still
     // running when it is claimed) only where every block of the colour would.
-    for (int colour = 1; colour < nl.kColours; ++colour) {
-      const int first = nl.colour_begin[colour], end = nl.colour_begin[colour + 1];
-      if (first == end || nl.colour_begin[colour - 1] == first) continue;
+    for (int colour = 1; colour < blocks.kColours; ++colour) {
+      const int first = blocks.colour_begin[colour], end = blocks.colour_begin[colour + 1];
+      if (first == end || blocks.colour_begin[colour - 1] == first) continue;
       auto waits_for_last = [&](int b) {
-        const int* from = nl.block_after.data() + nl.block_after_offsets(b);
-        const int* to = nl.block_after.data() + nl.block_after_offsets(b + 1);
+        const int* from = blocks.block_after.data() + blocks.block_after_offsets(b);
+        const int* to = blocks.block_after.data() + blocks.block_after_offsets(b + 1);
         return std::find(from, to, first - 1) != to;
       };
       bool avoidable = false;
       for (int b = first; b < end; ++b)
         avoidable = avoidable || !waits_for_last(b);
       EXPECT_FALSE(avoidable && waits_for_last(first))
-          << "box " << c.box << ", strips " << nl.listed_strips[1] << " x " << nl.listed_strips[2]
+          << "box " << c.box << ", strips " << blocks.listed_strips[1] << " x " << blocks.listed_strips[2]
           << ": colour " << colour << " starts with a block that waits for the previous colour's last";
     }
   }
@@ -285,6 +288,8 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   bins.build(grid, p.position, n);
   kernels::NeighborList<HostExec, ListLaw> nl;
   nl.build(domain, grid, bins, p.position, p.radius, skin, rmax, 0.0, n, identity, false);
+  kernels::ForceBlocks<HostExec> blocks;
+  blocks.build(domain, grid, bins, n);
   Kokkos::deep_copy(p.position_at_build, p.position);
 
   // Gaps: -1 within reach, then non-decreasing, and never above the true gap.
@@ -333,7 +338,8 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
 
   // One pass from history0 on the given backend's path; returns per particle its force and torque
   // (interleaved) and contact count, then every slot's history.
-  auto run_pass = [&](auto exec, auto& list, double max_displacement, auto path, auto schedule) {
+  auto run_pass = [&](auto exec, auto& list, const auto& list_blocks, double max_displacement, auto path,
+                      auto schedule) {
     using Exec = decltype(exec);
     using PassOn = kernels::ContactForces<Exec, ListLaw>;
     Kokkos::deep_copy(list.history, history0);
@@ -346,7 +352,7 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
     in.dt = 1e-6;
     in.max_radius = rmax;
     in.max_displacement = max_displacement;
-    PassOn::compute(p, list, in, ListLaw{}, n, false, path, schedule);
+    PassOn::compute(p, list, list_blocks, in, ListLaw{}, n, false, path, schedule);
     std::vector<double> out;
     for (int i = 0; i < n; ++i) {
       for (int a = 0; a < 3; ++a) {
@@ -362,7 +368,7 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
   using Pass = kernels::ContactForces<HostExec, ListLaw>;
   auto pass = [&](double max_displacement, Pass::Path path = Pass::Path::blocks,
                   Pass::Schedule schedule = Pass::kDefaultSchedule) {
-    return run_pass(HostExec(), nl, max_displacement, path, schedule);
+    return run_pass(HostExec(), nl, blocks, max_displacement, path, schedule);
   };
   const double everything = std::numeric_limits<double>::infinity();
   const std::vector<double> skipping = pass(moved), exhaustive = pass(everything);
@@ -426,7 +432,8 @@ TEST(NeighborList, SkippingPairsBeyondReachSinceTheBuildChangesNothing) {
     Kokkos::deep_copy(p.position, moved_position);
     ASSERT_EQ(serial_nl.num_slots, nl.num_slots);
     const std::vector<double> serial =
-        run_pass(Kokkos::Serial(), serial_nl, moved, SerialPass::Path::pairs, SerialPass::kDefaultSchedule);
+        run_pass(Kokkos::Serial(), serial_nl, kernels::ForceBlocks<Kokkos::Serial>{}, moved,
+                 SerialPass::Path::pairs, SerialPass::kDefaultSchedule);
     for (std::size_t k = 0; k < pairs.size(); ++k)
       ASSERT_EQ(serial[k], pairs[k]) << "entry " << k << ": Serial vs OpenMP, pairs path";
   }
