@@ -3,6 +3,7 @@
 #include "drivers/preflight.hpp"
 #include "drivers/random.hpp"
 #include "drivers/host_cell_grid.hpp"
+#include "setup/scaling.hpp"
 #include "core/crash_probe.hpp"
 
 #include <hdf5.h>
@@ -19,10 +20,6 @@
 #include <unordered_map>
 
 namespace cgdem {
-
-double coarse_radius_factor(const GroupSpec& group) {
-  return group.coarse_grain.law == "none" ? 1.0 : group.coarse_grain.factor;
-}
 
 namespace {
 
@@ -81,7 +78,7 @@ std::vector<double> sample_radii(const GroupSpec& g, std::size_t gi) {
                      "widen min/max or move the mean inside them");
       }
     }
-    v *= coarse_radius_factor(g);
+    v *= group_scale_factor(g);
   }
   return r;
 }

@@ -5,16 +5,12 @@
 
 namespace cgdem {
 
-// Coarse-graining hook: the factor by which a group's particle radius is multiplied (the group's
-// coarse_grain.factor for any law other than "none", else 1). The scaling of material parameters and
-// forces is applied elsewhere (docs/physics.md 4); here only the size of the generated particles.
-double coarse_radius_factor(const GroupSpec& group);
-
 // One ParticleSet for the whole scene, groups in scene order, deterministic for the groups' seeds.
-// Radii: SizeSpec (of the original particles) times coarse_radius_factor; placement lattice /
-// random_box / random_cylinder (random sequential addition, no overlaps, also none with the particles
-// of groups placed before) / file (CSV or cgdem HDF5, taken as they are: no coarse-grain factor).
-// Ids are unique: file ids are kept, generated ids continue after the largest file id (from 1).
+// Radii: SizeSpec (of the original particles) times the group's coarse-graining factor
+// (group_scale_factor, setup/scaling.hpp, which also scales materials and forces: docs/physics.md 4);
+// placement lattice / random_box / random_cylinder (random sequential addition, no overlaps, also none with
+// the particles of groups placed before) / file (CSV or cgdem HDF5, taken as they are: no coarse-grain
+// factor). Ids are unique: file ids are kept, generated ids continue after the largest file id (from 1).
 // Throws SceneError (one line, naming the group) when a group cannot be generated.
 ParticleSet generate_particles(const Scene& scene);
 

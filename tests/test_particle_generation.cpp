@@ -10,6 +10,7 @@
 #include <set>
 
 #include "drivers/particle_generation.hpp"
+#include "setup/scaling.hpp"
 #include "drivers/scene_parser.hpp"
 
 using namespace cgdem;
@@ -225,13 +226,13 @@ TEST(ParticleGeneration, CoarseGrainScalesTheRadius) {
   const Scene s =
       scene_with(kBox, "  - {material: glass, count: 20, size: {radius: 0.0002},\n"
                        "     placement: {type: random_box}, coarse_grain: {law: hu_method1, factor: 2}}\n");
-  EXPECT_DOUBLE_EQ(coarse_radius_factor(s.groups[0]), 2);
+  EXPECT_DOUBLE_EQ(group_scale_factor(s.groups[0]), 2);
   const ParticleSet ps = generate_particles(s);
   ASSERT_EQ(ps.size(), 20u);
   EXPECT_DOUBLE_EQ(ps.radius[0], 0.0004);
   GroupSpec none;
   none.coarse_grain.factor = 3;
-  EXPECT_DOUBLE_EQ(coarse_radius_factor(none), 1);
+  EXPECT_DOUBLE_EQ(group_scale_factor(none), 1);
 }
 
 TEST(ParticleGeneration, ReadsTheSharedSettledBed) {
