@@ -10,16 +10,14 @@
 //
 // A component declares, all optional:
 //   static constexpr MaterialParameter material_parameters[] = {...};
-//   static constexpr const char* material_block = "eepa";       // the YAML block of those keys
+//   static constexpr const char* material_block = "eepa";         // the YAML block of those keys
 //   static constexpr const char* material_example = "eepa: {k1: <N/m>, ...}";
-//   static const char* material_missing(const MaterialSpec&);   // what a material lacks for the law, or
-//                                                                  nullptr
+//   static const char* material_missing(const MaterialSpec&);     // what the law lacks, or nullptr
 //   static MaterialProblem material_problem(const MaterialSpec&);  // a problem between two keys
-//   static void finish_pair(PairParameters&);                    // rules after mixing (defaults between
-//   keys)
+//   static void finish_pair(PairParameters&);                      // defaults between keys, after mixing
 // and, a normal law: `spring_like` (force linear in the overlap with stiffness `spring_stiffness(p)`: the
 // linear oscillator's damping and contact time, no Rayleigh limit) or Hertz-like (E*, G*; Hertz contact
-// time and damping).
+// time and damping). docs/adding_a_law.md shows a whole declaration.
 #include <cmath>
 #include <cstdio>
 #include <limits>
