@@ -8,6 +8,7 @@
 #include "drivers/particle_generation.hpp"
 #include "drivers/scene_parser.hpp"
 #include "setup/materials.hpp"
+#include "models/component_lists.hpp"
 
 using namespace cgdem;
 
@@ -509,4 +510,41 @@ TEST(SceneParser, BoundedPlatesConesInletsAndOutlets) {
       replaced(t, "    end_radius: 0.009\n", "    end_radius: 0.009\n    caps: true\n");
   EXPECT_NE(error_of(cone_caps).find("does not apply to a cone wall"), std::string::npos)
       << error_of(cone_caps);
+}
+
+// Every material parameter a contact-law component declares (models/material_parameters.hpp) is a YAML
+// key the parser accepts, in the component's block, converted to SI, and it reaches the pair table by
+// its declared mixing rule; a value outside its declared range is refused naming the key. Driven by the
+// declarations, so a new component's parameters are checked without editing this test.
+TEST(SceneParser, EveryDeclaredComponentParameterIsParsedCheckedAndMixed) {
+  int checked = 0;
+  models::for_each_component([&](auto component) {
+    using C = typename decltype(component)::type;
+    models::for_each_material_parameter<C>([&](const char* block, const models::MaterialParameter& d) {
+      SCOPED_TRACE(models::parameter_path(block, d));
+      // A value inside the range, away from its ends: 0.3 of the way, or 1.5 x a one-sided bound.
+      const double lo = std::isinf(d.lowest) ? d.highest - 2 : d.lowest,
+                   hi = std::isinf(d.highest) ? lo + 2 : d.highest;
+      const double v = lo + 0.3 * (hi - lo);
+      const std::string key =
+          std::string("materials.glass.") + block + "=" + "{" + d.key + ": " + models::short_number(v) + "}";
+      const Scene s = parse_scene_text(kBase, "scene.yaml", {key});
+      const MaterialSpec& glass = s.materials[static_cast<std::size_t>(s.material_index("glass"))];
+      const double si = d.degrees ? v * M_PI / 180.0 : v;
+      EXPECT_NEAR(glass.law_parameter(models::parameter_path(block, d), -1), si, 1e-12 * std::fabs(si));
+      // Like pairs (adhesive, so attractive parameters are kept) get the mixing rule of two equal values.
+      const models::PairParameters p = mix_pair(glass, glass, true, s.contact);
+      EXPECT_NEAR(p.*d.pair, models::mix_values(d.mix, si, si), 1e-12 * std::fabs(si));
+      // Attractive parameters are zero on a non-adhesive pair.
+      if (d.attractive) EXPECT_EQ(mix_pair(glass, glass, false, s.contact).*d.pair, 0);
+      // Outside the range: one line naming the key.
+      const double bad = std::isinf(d.lowest) ? d.highest + 1 : d.lowest - 1;
+      const std::string msg = error_of(kBase, {std::string("materials.glass.") + block + "={" + d.key + ": " +
+                                               models::short_number(bad) + "}"});
+      EXPECT_NE(msg.find(std::string("materials.glass.") + block + "." + d.key), std::string::npos) << msg;
+      EXPECT_NE(msg.find(d.help), std::string::npos) << msg;
+      ++checked;
+    });
+  });
+  EXPECT_GE(checked, 11); // spring (2), eepa (4), capillary (5) at least
 }
