@@ -209,7 +209,6 @@ public:
     if (out.node.IsNull()) ctx_.fail(out.path, out.mark, "'" + key + "' has no value", fix);
     return out;
   }
-  const Field& field() const { return f_; }
   const std::vector<std::string>& keys() const { return keys_; }
 
 private:
@@ -1098,7 +1097,10 @@ struct Parser {
     for (std::size_t i = 0; i < scene.walls.size(); ++i)
       used.push_back({scene.walls[i].material, "walls." + std::to_string(i)});
     const ContactSpec& c = scene.contact;
-    for (const auto& [name, user] : used) {
+    for (const auto& use : used) {
+      // Named copies, not structured bindings: the lambda below captures them (C++17 cannot).
+      const std::string& name = use.first;
+      const std::string& user = use.second;
       const MaterialSpec& m = scene.materials[scene.material_index(name)];
       const Field& f = material_fields.at(name);
       const std::string used_by = " (used by " + user + ")";
