@@ -4,6 +4,8 @@
 #include <hdf5.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/stat.h>
+#include <time.h>
 #include <sys/wait.h>
 #include <unistd.h>
 #include <algorithm>
@@ -30,6 +32,7 @@
 #include "drivers/commands.hpp"
 #include "drivers/kokkos_session.hpp"
 #include "drivers/scene_parser.hpp"
+#include "drivers/sweep_statistics.hpp"
 
 extern char** environ;
 
@@ -68,7 +71,7 @@ std::vector<std::string> split(const std::string& s, char sep) {
 // ---- HDF5: what a finished run's file says ----
 
 struct RunOutput {
-  long particles = 0, steps = 0;
+  long particles = 0, steps = 0, last_step = 0;
   int threads = 1;
   double time_step = 0;
   std::map<std::string, double> final_values;
@@ -140,6 +143,7 @@ RunOutput read_run_output(const std::string& path) {
   }
   const auto steps = read_doubles(series, "step");
   if (steps.size() >= 2) o.steps = std::lround(steps.back() - steps.front());
+  if (!steps.empty()) o.last_step = std::lround(steps.back());
   H5 frames(H5Gopen2(file, "frames", H5P_DEFAULT), H5Gclose);
   auto names = links(frames);
   if (names.empty()) throw std::runtime_error(path + " has no frames");
@@ -165,6 +169,7 @@ struct RunPlan {
   std::vector<std::string> sets; // the sweep's own --set overrides
   long particles = 0;            // from the check before the sweep starts
   double mass = 0;               // kg
+  long seed = -1;                // the --seeds entry (-1: none)
 };
 
 std::string self_exe() {
@@ -179,7 +184,8 @@ std::string self_exe() {
 // that waits for it (PR_SET_PDEATHSIG), so killing the sweep leaves no orphan writing into a run directory.
 // Runs the child and waits; *cpu_seconds receives its user + system time (rusage of the child).
 int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::string>& env,
-                   const std::string& dir, const std::string& log, double* cpu_seconds) {
+                   const std::string& dir, const std::string& log, bool append_log, double* cpu_seconds) {
+  const int log_flags = O_WRONLY | O_CREAT | (append_log ? O_APPEND : O_TRUNC);
   std::vector<char*> a, e;
   for (const auto& s : argv)
     a.push_back(const_cast<char*>(s.c_str()));
@@ -195,7 +201,7 @@ int spawn_and_wait(const std::vector<std::string>& argv, const std::vector<std::
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(127);
     if (chdir(dir.c_str()) != 0) _exit(127);
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int fd = open(log.c_str(), log_flags, 0644);
     if (fd >= 0) {
       dup2(fd, 1);
       dup2(fd, 2);
@@ -240,6 +246,53 @@ std::string tail(const std::string& log, std::size_t lines) {
   return out;
 }
 
+// A run continued from checkpoints is done in pieces, one process each. When a piece starts, its start
+// (wall-clock seconds since the epoch, first step) goes to piece_start.txt; when the next one starts, the
+// stopped piece's share, from its start to its last checkpoint (step and file time), is added to
+// pieces.txt. The work after that checkpoint was lost and is done again by the next piece.
+struct Pieces {
+  int count = 0;      // pieces before the one about to start
+  long last_step = 0; // where the checkpoint stands
+  double wall = 0;    // seconds of the earlier pieces, each up to its last checkpoint
+};
+
+double epoch_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_REALTIME, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+void start_piece(const fs::path& rundir, long first_step) {
+  std::ofstream(rundir / "piece_start.txt") << fmt(epoch_seconds()) << " " << first_step << "\n";
+}
+
+Pieces continue_pieces(const fs::path& rundir, const fs::path& checkpoint) {
+  Pieces p;
+  {
+    std::lock_guard<std::mutex> lock(hdf5_mutex());
+    H5 file(H5Fopen(checkpoint.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
+    if (file < 0) throw std::runtime_error("cannot open checkpoint " + checkpoint.string());
+    p.last_step = std::lround(read_attr(file, "step", 0));
+  }
+  struct stat st {};
+  const double written =
+      stat(checkpoint.c_str(), &st) == 0 ? double(st.st_mtim.tv_sec) + 1e-9 * double(st.st_mtim.tv_nsec) : 0;
+  double started = 0;
+  long first = 0;
+  std::ifstream(rundir / "piece_start.txt") >> started >> first;
+  if (started > 0 && written > started && p.last_step > first)
+    std::ofstream(rundir / "pieces.txt", std::ios::app)
+        << first << " " << p.last_step << " " << fmt(written - started) << "\n";
+  std::ifstream in(rundir / "pieces.txt");
+  long from = 0, to = 0;
+  double seconds = 0;
+  while (in >> from >> to >> seconds) {
+    ++p.count;
+    p.wall += seconds;
+  }
+  return p;
+}
+
 struct Sweep {
   SweepOptions o;
   Scene scene; // with the user's overrides
@@ -255,15 +308,37 @@ struct Sweep {
   // Returns false when the child was killed (no record: the run is not complete).
   bool execute(const RunPlan& plan, int threads, bool unpin) {
     const fs::path rundir = dir / "runs" / plan.run;
-    fs::remove_all(rundir);
-    fs::create_directories(rundir);
     const std::string h5 = (rundir / "run.h5").string(), log = (rundir / "log.txt").string();
+    const fs::path checkpoint = rundir / "run.checkpoint.h5";
+    const bool resume = o.checkpoint_every > 0 && fs::exists(checkpoint);
+    Pieces pieces;
+    if (resume) {
+      pieces = continue_pieces(rundir, checkpoint);
+      // The earlier pieces' frames stay beside the continuation's, which writes run.h5 afresh.
+      int part = 1;
+      while (fs::exists(rundir / ("run.part" + std::to_string(part) + ".h5")))
+        ++part;
+      std::error_code ec;
+      fs::rename(h5, rundir / ("run.part" + std::to_string(part) + ".h5"), ec);
+      fs::rename(xdmf_path_for(h5), rundir / ("run.part" + std::to_string(part) + ".xdmf"), ec);
+    } else {
+      fs::remove_all(rundir);
+      fs::create_directories(rundir);
+    }
+    start_piece(rundir, resume ? pieces.last_step : 0);
     std::vector<std::string> argv{exe,     "run", scene_abs, "--quiet", "--threads", std::to_string(threads),
                                   "--out", h5};
     for (const auto& s : o.overrides)
       argv.insert(argv.end(), {"--set", s});
     for (const auto& s : plan.sets)
       argv.insert(argv.end(), {"--set", s});
+    if (o.checkpoint_every > 0) argv.insert(argv.end(), {"--checkpoint-every", fmt(o.checkpoint_every)});
+    if (resume) {
+      argv.insert(argv.end(), {"--restart", checkpoint.string()});
+      std::lock_guard<std::mutex> lock(print);
+      std::fprintf(stderr, "sweep: %s continues from its checkpoint at step %ld (piece %d)\n",
+                   plan.run.c_str(), pieces.last_step, pieces.count + 1);
+    }
     std::vector<std::string> env;
     for (char** e = environ; *e; ++e)
       if (!unpin || std::strncmp(*e, "OMP_PROC_BIND=", 14) != 0) env.push_back(*e);
@@ -271,12 +346,18 @@ struct Sweep {
     if (unpin) env.push_back("OMP_PROC_BIND=false");
     const auto start = std::chrono::steady_clock::now();
     double cpu = 0;
-    const int status = spawn_and_wait(argv, env, rundir.string(), log, &cpu);
-    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const int status = spawn_and_wait(argv, env, rundir.string(), log, resume, &cpu);
+    const double piece_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // Earlier pieces count up to their last checkpoint (the work after it was lost and is done again);
+    // their CPU time, not measured, is taken at this piece's CPU-to-wall ratio.
+    const double wall = piece_wall + pieces.wall;
+    if (pieces.wall > 0 && piece_wall > 0) cpu += pieces.wall * cpu / piece_wall;
     RunRecord r;
     r.run = plan.run;
     r.law = plan.law;
     r.k = plan.k;
+    r.seed = plan.seed;
+    r.pieces = pieces.count + 1;
     r.threads = threads;
     r.wall_time = wall;
     r.cpu_time = cpu;
@@ -293,7 +374,7 @@ struct Sweep {
       try {
         RunOutput out = read_run_output(h5);
         r.particles = out.particles;
-        r.steps = out.steps;
+        r.steps = resume ? out.last_step : out.steps;
         r.time_step = out.time_step;
         r.values = out.final_values;
         r.particle_steps_per_s = wall > 0 ? double(r.steps) * r.particles / wall : 0;
@@ -486,11 +567,11 @@ void write_h5(const std::string& path, const Table& t, const SweepOptions& o, co
 void write_record(const std::string& path, const RunRecord& r) {
   std::ostringstream s;
   s << "run " << r.run << "\nlaw " << r.law << "\nk " << fmt(r.k) << "\nstatus " << r.status << "\nexit_code "
-    << r.exit_code << "\nthreads " << r.threads << "\nparticles " << r.particles << "\nmass_kg "
-    << fmt(r.mass) << "\nsteps " << r.steps << "\ntime_step " << fmt(r.time_step) << "\nwall_time_s "
-    << fmt(r.wall_time) << "\ncpu_time_s " << fmt(r.cpu_time) << "\nparticle_steps_per_s "
-    << fmt(r.particle_steps_per_s) << "\nengine_particle_steps_per_s " << fmt(r.engine_particle_steps_per_s)
-    << "\n";
+    << r.exit_code << "\nthreads " << r.threads << "\nseed " << r.seed << "\npieces " << r.pieces
+    << "\nparticles " << r.particles << "\nmass_kg " << fmt(r.mass) << "\nsteps " << r.steps << "\ntime_step "
+    << fmt(r.time_step) << "\nwall_time_s " << fmt(r.wall_time) << "\ncpu_time_s " << fmt(r.cpu_time)
+    << "\nparticle_steps_per_s " << fmt(r.particle_steps_per_s) << "\nengine_particle_steps_per_s "
+    << fmt(r.engine_particle_steps_per_s) << "\n";
   for (const auto& kv : r.values)
     s << "value " << kv.first << " " << fmt(kv.second) << "\n";
   for (const auto& kv : r.samples) {
@@ -555,6 +636,10 @@ RunRecord read_record(const std::string& path) {
       ls >> r.exit_code;
     else if (key == "threads")
       ls >> r.threads;
+    else if (key == "seed")
+      ls >> r.seed;
+    else if (key == "pieces")
+      ls >> r.pieces;
     else if (key == "particles")
       ls >> r.particles;
     else if (key == "mass_kg")
@@ -698,6 +783,23 @@ SweepOptions parse_sweep_options(const std::vector<std::string>& args) {
       o.policy = value();
       if (o.policy != "auto" && o.policy != "serial" && o.policy != "parallel")
         throw CliError("--policy expects auto, serial or parallel, got '" + o.policy + "'");
+    } else if (name == "--seeds" || name == "--reference-seeds") {
+      auto& list = name == "--seeds" ? o.seeds : o.reference_seeds;
+      for (const auto& v : split(value(), ',')) {
+        char* end = nullptr;
+        const long x = std::strtol(v.c_str(), &end, 10);
+        if (end == v.c_str() || *end || x < 0)
+          throw CliError(name + " expects non-negative integer seeds separated by commas, got '" + v + "'");
+        if (std::find(list.begin(), list.end(), x) != list.end())
+          throw CliError(name + " lists seed " + v + " twice");
+        list.push_back(x);
+      }
+    } else if (name == "--checkpoint-every") {
+      const std::string v = value();
+      char* end = nullptr;
+      o.checkpoint_every = std::strtod(v.c_str(), &end);
+      if (end == v.c_str() || *end || !(o.checkpoint_every > 0))
+        throw CliError("--checkpoint-every expects a positive number of simulated seconds, got '" + v + "'");
     } else if (name == "--quiet" || name == "-q")
       o.quiet = true;
     else if (name == "--no-plots")
@@ -712,6 +814,9 @@ SweepOptions parse_sweep_options(const std::vector<std::string>& args) {
   if (o.scene.empty()) throw CliError("no scene file given (see --help)");
   if (o.laws.empty()) throw CliError("--laws is required, e.g. --laws chen_elliott,hu_method1");
   if (o.factors.empty()) throw CliError("--k is required, e.g. --k 1,2,3,4");
+  if (!o.reference_seeds.empty() && o.seeds.empty())
+    throw CliError("--reference-seeds needs --seeds (the seeds of the coarse-grained runs)");
+  if (o.reference_seeds.empty()) o.reference_seeds = o.seeds;
   std::sort(o.factors.begin(), o.factors.end());
   o.factors.erase(std::unique(o.factors.begin(), o.factors.end()), o.factors.end());
   return o;
@@ -743,11 +848,22 @@ Options:
   --policy P             serial: one run at a time on N threads; parallel: N single-threaded runs at a
                          time (oneTBB task group); auto (default): the faster on the measured small
                          scenes, parallel (docs/sweeps.md)
+  --seeds 1,2,3          run every case once per seed of the initial packing (each group's
+                         placement.seed = seed + 1000 x group index; runs named <case>_s<seed>) and write
+                         DIR/summary.csv: per case the mean and standard deviation over its seeds, the
+                         error of the mean against the reference's mean, the seed-to-seed scatter of
+                         that difference and whether the error is within it
+  --reference-seeds 1,2  the reference's seeds when they differ from --seeds (it is the costly run)
+  --checkpoint-every T   each run writes a checkpoint every T simulated seconds; started again, the sweep
+                         continues an unfinished run from its checkpoint instead of from the start (for
+                         runs longer than a sitting: kill the sweep, start the same command later)
   --no-plots             skip the PNG plots
   --quiet                no line per finished run
 
-Example:
+Examples:
   cgdem sweep sweeps/tiny_pile.yaml --laws chen_elliott,bond --k 1,2,3 --out tiny_sweep
+  cgdem sweep sweeps/chen_repose.yaml --laws chen_elliott --k 2 --seeds 1,2,3 --reference-seeds 1,2 \
+      --checkpoint-every 0.1 --out repose
 )";
 }
 
@@ -779,23 +895,30 @@ int sweep_command(const std::vector<std::string>& args) {
             scene_error_message(s.scene.source_file, "groups." + std::to_string(g) + ".placement",
                                 "a sweep scales the particle count by k^-3, which a file group cannot do",
                                 "generate the particles (lattice, random_box, random_cylinder)"));
-    auto plan = [&](const std::string& law, double k) {
+    auto plan = [&](const std::string& law, double k, long seed) {
       RunPlan p;
       p.law = law;
       p.k = k;
-      p.run = k == 1 ? "reference" : law + "_k" + k_name(k);
+      p.seed = seed;
+      p.run =
+          (k == 1 ? "reference" : law + "_k" + k_name(k)) + (seed >= 0 ? "_s" + std::to_string(seed) : "");
       for (std::size_t g = 0; g < s.scene.groups.size(); ++g) {
         const std::string key = "groups." + std::to_string(g);
         p.sets.push_back(key + ".coarse_grain={law: " + law + ", factor: " + fmt(k) + "}");
         const long count = std::max(1L, std::lround(s.scene.groups[g].count / (k * k * k)));
         p.sets.push_back(key + ".count=" + std::to_string(count));
+        if (seed >= 0) p.sets.push_back(key + ".placement.seed=" + std::to_string(seed + 1000 * long(g)));
       }
       return p; // checked below, with every other run, before anything runs
     };
-    plans.push_back(plan("none", 1));
+    const std::vector<long> no_seed{-1};
+    for (long seed : o.reference_seeds.empty() ? no_seed : o.reference_seeds)
+      plans.push_back(plan("none", 1, seed));
     for (const auto& law : o.laws)
       for (double k : o.factors)
-        if (k != 1) plans.push_back(plan(law, k));
+        if (k != 1)
+          for (long seed : o.seeds.empty() ? no_seed : o.seeds)
+            plans.push_back(plan(law, k, seed));
   } catch (const SceneError& e) {
     std::cerr << "cgdem: " << e.what() << "\n";
     return exit_bad_input;
@@ -883,12 +1006,14 @@ int sweep_command(const std::vector<std::string>& args) {
   }
 
   // Everything below comes from the records alone.
-  std::vector<RunRecord> records;
-  RunRecord reference;
+  // With several reference seeds every run is compared with their mean.
+  std::vector<RunRecord> records, reference_runs;
   for (const auto& p : plans) {
     records.push_back(read_record(s.record_path(p.run).string()));
-    if (p.run == "reference") reference = records.back();
+    if (p.law == "none") reference_runs.push_back(records.back());
   }
+  const RunRecord reference =
+      reference_runs.size() == 1 ? reference_runs.front() : mean_record(reference_runs, "reference");
   SweepAnalyses compared;
   for (const auto& a : s.analyses)
     (a->is_distribution() ? compared.distributions : compared.main).push_back(a->metric());
@@ -897,6 +1022,11 @@ int sweep_command(const std::vector<std::string>& args) {
   const Table table = make_table(rows, reference);
   const std::string csv = (s.dir / "sweep.csv").string();
   write_csv(csv, table);
+  std::vector<CaseSummary> cases;
+  if (!o.seeds.empty()) {
+    cases = summarize_cases(records, compared.main);
+    write_summary_csv((s.dir / "summary.csv").string(), cases, compared.main);
+  }
   write_h5((s.dir / "sweep.h5").string(), table, o, policy);
   std::string mains;
   for (const auto& a : s.analyses)
@@ -935,6 +1065,25 @@ int sweep_command(const std::vector<std::string>& args) {
         }
       }
       std::fprintf(stderr, "  %s\n", r.status.c_str());
+    }
+  }
+  if (!o.quiet && !cases.empty()) {
+    std::fprintf(stderr,
+                 "over the seeds (summary.csv): mean +- sd; error of the mean against the reference's, "
+                 "and the seed-to-seed scatter of that difference\n");
+    for (const auto& c : cases) {
+      std::fprintf(stderr, "  %-16s k %-4s %d seeds  speed-up %7.2f (CPU %7.2f)", c.law.c_str(),
+                   k_name(c.k).c_str(), c.seeds, c.speedup, c.speedup_cpu);
+      for (const auto& v : compared.main) {
+        const SampleStats& st = c.values.at(v);
+        std::fprintf(stderr, "  %s %.4g +- %.2g", v.c_str(), st.mean, st.sd);
+        if (c.law != "none")
+          std::fprintf(stderr, " (err %+.3f, scatter %.3f%s)", c.error.at(v), c.scatter.at(v),
+                       std::isnan(c.within.at(v)) ? ""
+                       : c.within.at(v) > 0       ? ", within"
+                                                  : ", beyond");
+      }
+      std::fprintf(stderr, "\n");
     }
   }
   if (!failed.empty()) {

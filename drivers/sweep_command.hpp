@@ -22,6 +22,12 @@ struct SweepOptions {
   std::string policy = "auto";        // auto | serial | parallel
   bool quiet = false;
   bool plots = true; // --no-plots: skip the python plots
+  // --seeds: every case once per seed of the initial packing (groups.<g>.placement.seed = seed + 1000 g);
+  // empty: once, with the scene's seeds. --reference-seeds: the reference's own (default: --seeds).
+  std::vector<long> seeds, reference_seeds;
+  // --checkpoint-every: each run checkpoints every T simulated seconds, and a run stopped before its
+  // record was written continues from its checkpoint when the sweep is started again. 0: off.
+  double checkpoint_every = 0;
 };
 
 // One run's own figures, as recorded.
@@ -34,6 +40,8 @@ struct RunRecord {
   double time_step = 0, wall_time = 0, particle_steps_per_s = 0, engine_particle_steps_per_s = 0;
   double cpu_time = 0; // user + system seconds of the run's process (0: not recorded)
   int threads = 1;
+  long seed = -1; // the --seeds entry the run used (-1: the scene's own seeds)
+  int pieces = 1; // processes it took (> 1: continued from checkpoints; times summed, CPU time estimated)
   std::map<std::string, double> values;               // final value of every analysis output
   std::map<std::string, std::vector<double>> samples; // distribution analyses: final-frame samples
 };

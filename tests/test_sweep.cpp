@@ -14,6 +14,7 @@
 #include "drivers/cli.hpp"
 #include "drivers/scene_parser.hpp"
 #include "drivers/sweep_command.hpp"
+#include "drivers/sweep_statistics.hpp"
 
 using namespace cgdem;
 namespace fs = std::filesystem;
@@ -99,6 +100,77 @@ TEST(SweepOptions, ParseAndReject) {
   EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "0.5"}), CliError);
   EXPECT_THROW(parse_sweep_options({"s.yaml", "--k", "2"}), CliError);
   EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--policy", "fast"}), CliError);
+  // Seeds: the reference takes --seeds unless given its own; a repeated or negative seed is refused.
+  const SweepOptions seeded = parse_sweep_options(
+      {"s.yaml", "--laws", "a", "--k", "2", "--seeds", "3,1,2", "--checkpoint-every", "0.5"});
+  EXPECT_EQ(seeded.seeds, (std::vector<long>{3, 1, 2}));
+  EXPECT_EQ(seeded.reference_seeds, seeded.seeds);
+  EXPECT_EQ(seeded.checkpoint_every, 0.5);
+  EXPECT_EQ(
+      parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--seeds", "1,2,3", "--reference-seeds", "7"})
+          .reference_seeds,
+      (std::vector<long>{7}));
+  EXPECT_TRUE(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2"}).seeds.empty());
+  for (const char* bad : {"1,1", "-1", "x"})
+    EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--seeds", bad}), CliError) << bad;
+  EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--reference-seeds", "1"}),
+               CliError);
+  EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--checkpoint-every", "0"}),
+               CliError);
+}
+
+// Mean and sample standard deviation over seeds, the error of the case's mean against the reference's,
+// the scatter sqrt(sd^2 + sd_ref^2) and the verdict, on numbers worked by hand.
+TEST(SweepOptions, SeedStatisticsFromRecords) {
+  auto record = [](const std::string& law, double k, double angle, double wall, int exit_code = 0) {
+    RunRecord r;
+    r.run = law;
+    r.law = law;
+    r.k = k;
+    r.wall_time = wall;
+    r.cpu_time = wall;
+    r.exit_code = exit_code;
+    r.values = {{"angle", angle}, {"height", 10}};
+    return r;
+  };
+  // Reference 40, 42: mean 41, sd sqrt(2). Law a: 38, 40, 42: mean 40, sd 2. Law b: 30, 31, 32 (sd 1)
+  // and a failed run left out.
+  const std::vector<RunRecord> runs{
+      record("none", 1, 40, 100), record("none", 1, 42, 60), record("a", 2, 38, 10),
+      record("a", 2, 40, 10),     record("a", 2, 42, 20),    record("b", 2, 30, 8),
+      record("b", 2, 31, 8),      record("b", 2, 32, 8),     record("b", 2, 0, 1, 3)};
+  const auto cases = summarize_cases(runs, {"angle", "height"});
+  ASSERT_EQ(cases.size(), 3u);
+  EXPECT_EQ(cases[0].law, "none");
+  EXPECT_EQ(cases[0].seeds, 2);
+  EXPECT_DOUBLE_EQ(cases[0].values.at("angle").mean, 41);
+  EXPECT_NEAR(cases[0].values.at("angle").sd, std::sqrt(2.0), 1e-14);
+  EXPECT_TRUE(std::isnan(cases[0].within.at("angle"))); // no verdict on the reference itself
+  const CaseSummary& a = cases[1];
+  EXPECT_EQ(a.law, "a");
+  EXPECT_EQ(a.seeds, 3);
+  EXPECT_DOUBLE_EQ(a.speedup, 80.0 / (40.0 / 3));
+  EXPECT_DOUBLE_EQ(a.values.at("angle").mean, 40);
+  EXPECT_NEAR(a.values.at("angle").sd, 2, 1e-14);
+  EXPECT_NEAR(a.error.at("angle"), -1.0 / 41, 1e-15);
+  EXPECT_NEAR(a.scatter.at("angle"), std::sqrt(4.0 + 2.0) / 41, 1e-15);
+  EXPECT_EQ(a.within.at("angle"), 1);
+  const CaseSummary& b = cases[2];
+  EXPECT_EQ(b.seeds, 3); // the failed run is not a seed
+  EXPECT_NEAR(b.error.at("angle"), -10.0 / 41, 1e-15);
+  EXPECT_NEAR(b.scatter.at("angle"), std::sqrt(1.0 + 2.0) / 41, 1e-15);
+  EXPECT_EQ(b.within.at("angle"), 0);
+  // Equal values without spread: zero error within zero scatter; one seed on both sides: no verdict.
+  EXPECT_EQ(b.scatter.at("height"), 0);
+  EXPECT_EQ(b.within.at("height"), 1);
+  EXPECT_TRUE(std::isnan(
+      summarize_cases({record("none", 1, 1, 1), record("a", 2, 1, 1)}, {"angle"})[1].within.at("angle")));
+  // The mean record the runs are compared with.
+  const RunRecord m = mean_record({runs[0], runs[1]}, "reference");
+  EXPECT_DOUBLE_EQ(m.values.at("angle"), 41);
+  EXPECT_DOUBLE_EQ(m.wall_time, 80);
+  EXPECT_EQ(m.exit_code, 0);
+  EXPECT_EQ(mean_record({runs[6], runs[8]}, "b").exit_code, 3);
 }
 
 TEST(SweepOptions, CompareRunsFromRecords) {
@@ -335,6 +407,92 @@ TEST_F(SweepTest, KilledSweepResumes) {
   EXPECT_NE(log.find("3 runs (" + std::to_string(3 - complete) + " to do)"), std::string::npos) << log;
   EXPECT_EQ(slurp(ref), before);
   EXPECT_EQ(read_csv(dir / "s" / "sweep.csv").rows.size(), 3u);
+}
+
+// --seeds: one run per seed and case, each group's placement seeded by it (the runs differ), and
+// summary.csv with the statistics of the records.
+TEST_F(SweepTest, SeedsRunEveryCasePerSeedAndSummarize) {
+  const fs::path s = dir / "s";
+  ASSERT_EQ(cgdem("sweep '" + kScene + "' --laws chen_elliott --k 2 --set time.end=0.05 --out '" +
+                  s.string() + "' --threads 2 --seeds 4,5 --reference-seeds 4,5 --no-plots"),
+            0)
+      << slurp(dir / "out.txt");
+  std::vector<RunRecord> records;
+  for (const char* run : {"reference_s4", "reference_s5", "chen_elliott_k2_s4", "chen_elliott_k2_s5"}) {
+    records.push_back(read_record((s / "records" / (std::string(run) + ".txt")).string()));
+    EXPECT_EQ(records.back().status, "ok") << run;
+  }
+  EXPECT_EQ(records[0].seed, 4);
+  EXPECT_EQ(records[1].seed, 5);
+  EXPECT_NE(records[0].values.at("bed"), records[1].values.at("bed")); // other packings
+  EXPECT_NE(records[0].samples.at("speed"), records[1].samples.at("speed"));
+  const Csv sum = read_csv(s / "summary.csv");
+  ASSERT_EQ(sum.rows.size(), 2u);
+  EXPECT_EQ(sum.rows[0].at("law"), "none");
+  EXPECT_EQ(sum.num(0, "seeds"), 2);
+  EXPECT_EQ(sum.num(1, "seeds"), 2);
+  const auto cases = summarize_cases(records, {"pile", "bed", "floor_stress"});
+  for (std::size_t c = 0; c < 2; ++c)
+    for (const char* v : {"bed", "floor_stress"}) {
+      EXPECT_NEAR(sum.num(c, std::string(v) + "_mean"), cases[c].values.at(v).mean,
+                  1e-9 * std::abs(cases[c].values.at(v).mean));
+      EXPECT_NEAR(sum.num(c, std::string(v) + "_sd"), cases[c].values.at(v).sd,
+                  1e-9 * cases[c].values.at(v).sd);
+    }
+  // Per-run errors in sweep.csv are against the mean of the reference's seeds.
+  const Csv csv = read_csv(s / "sweep.csv");
+  const std::size_t row = csv.find("chen_elliott_k2_s5");
+  ASSERT_LT(row, csv.rows.size());
+  const double ref_bed = 0.5 * (records[0].values.at("bed") + records[1].values.at("bed"));
+  EXPECT_NEAR(csv.num(row, "err_bed"), std::abs(records[3].values.at("bed") - ref_bed) / ref_bed, 1e-12);
+  EXPECT_NE(slurp(dir / "out.txt").find("over the seeds"), std::string::npos);
+}
+
+// --checkpoint-every: a sweep killed in the middle of a run continues that run from its checkpoint when
+// started again, and ends with the same figures as a sweep never interrupted (a restart is bitwise).
+TEST_F(SweepTest, KilledRunContinuesFromItsCheckpoint) {
+  const fs::path s = dir / "s", whole = dir / "whole";
+  const std::vector<std::string> common{
+      "--laws", "chen_elliott", "--k", "2",          "--set",   "time.end=0.6",       "--policy",
+      "serial", "--threads",    "1",   "--no-plots", "--quiet", "--checkpoint-every", "0.05"};
+  const fs::path checkpoint = s / "runs" / "reference" / "run.checkpoint.h5";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    std::vector<std::string> a{CGDEM_BINARY, "sweep", kScene, "--out", s.string()};
+    a.insert(a.end(), common.begin(), common.end());
+    std::vector<char*> argv;
+    for (auto& x : a)
+      argv.push_back(x.data());
+    argv.push_back(nullptr);
+    execv(CGDEM_BINARY, argv.data());
+    _exit(127);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() - start < std::chrono::seconds(120))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300)); // a few checkpoints further
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(fs::exists(checkpoint));
+  ASSERT_FALSE(fs::exists(s / "records" / "reference.txt")) << "the run ended before the kill: lengthen it";
+  std::string rest;
+  for (const auto& c : common)
+    rest += " '" + c + "'";
+  ASSERT_EQ(cgdem("sweep '" + kScene + "' --out '" + s.string() + "'" + rest), 0) << slurp(dir / "out.txt");
+  ASSERT_EQ(cgdem("sweep '" + kScene + "' --out '" + whole.string() + "'" + rest), 0)
+      << slurp(dir / "out.txt");
+  const RunRecord resumed = read_record((s / "records" / "reference.txt").string());
+  const RunRecord uninterrupted = read_record((whole / "records" / "reference.txt").string());
+  EXPECT_EQ(resumed.pieces, 2);
+  EXPECT_EQ(uninterrupted.pieces, 1);
+  EXPECT_TRUE(fs::exists(s / "runs" / "reference" / "run.part1.h5"));
+  EXPECT_EQ(resumed.steps, uninterrupted.steps);
+  EXPECT_EQ(resumed.particles, uninterrupted.particles);
+  EXPECT_EQ(resumed.values, uninterrupted.values);
+  EXPECT_EQ(resumed.samples, uninterrupted.samples);
+  EXPECT_GT(resumed.wall_time, 0);
 }
 
 // A failed run (non-zero exit, or a nan main figure) is listed as failed in sweep.csv and the summary and
