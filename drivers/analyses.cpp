@@ -288,7 +288,7 @@ public:
       out[name() + "_strain"] = e;
       return;
     }
-    if (in.time >= from_ && (s > peak_stress_ || !seen_)) {
+    if (in.accumulate && in.time >= from_ && (s > peak_stress_ || !seen_)) {
       peak_stress_ = s;
       peak_strain_ = e;
       seen_ = true;
@@ -307,6 +307,18 @@ protected:
   std::map<std::string, double> default_mass_exponents() const override {
     if (!peak_) return {{"", 1}, {"_strain", 0}};
     return {{"", 0}, {"_peak_strain", 0}, {"_stress", 0}, {"_strain", 0}};
+  }
+
+public:
+  std::vector<double> state() const override {
+    return {height_, seen_ ? 1.0 : 0.0, peak_stress_, peak_strain_};
+  }
+  void restore_state(const std::vector<double>& s) override {
+    expect_state(s, 4);
+    height_ = s[0];
+    seen_ = s[1] != 0;
+    peak_stress_ = s[2];
+    peak_strain_ = s[3];
   }
 
 private:
@@ -475,7 +487,7 @@ public:
     // A cohesive bed slumps: the angle of one frame depends on where in the avalanche cycle the run
     // stops, so the comparable figure is the mean over the output frames of the flowing regime. Each
     // frame time counts once (the final evaluation may repeat the last output frame).
-    if (in.time >= average_from_ && in.time > last_time_) {
+    if (in.accumulate && in.time >= average_from_ && in.time > last_time_) {
       sum_ += fit.angle_deg;
       sum_squares_ += fit.angle_deg * fit.angle_deg;
       ++frames_;
@@ -496,6 +508,16 @@ protected:
   // The dynamic angle of a drum of fixed size and speed depends on the fill level only weakly: p = 0.
   std::map<std::string, double> default_mass_exponents() const override {
     return {{"", 0}, {"_rms", 0}, {"_cells", 0}, {"_mean", 0}, {"_std", 0}, {"_frames", 0}};
+  }
+
+public:
+  std::vector<double> state() const override { return {sum_, sum_squares_, last_time_, double(frames_)}; }
+  void restore_state(const std::vector<double>& s) override {
+    expect_state(s, 4);
+    sum_ = s[0];
+    sum_squares_ = s[1];
+    last_time_ = s[2];
+    frames_ = std::lround(s[3]);
   }
 
 private:
@@ -572,6 +594,15 @@ protected:
   }
 
 private:
+public:
+  std::vector<double> state() const override { return {origin_set_ ? 1.0 : 0.0, origin_}; }
+  void restore_state(const std::vector<double>& s) override {
+    expect_state(s, 2);
+    origin_set_ = s[0] != 0;
+    if (!origin_given_) origin_ = s[1];
+  }
+
+private:
   int axis_ = 0, direction_ = 1, up_ = 2, group_ = -1;
   bool origin_given_ = false, origin_set_ = false, floor_given_ = false;
   double origin_ = 0, floor_ = 0, bin_width_ = 0, lo_ = 0.2, hi_ = 0.8;
@@ -644,6 +675,28 @@ std::map<std::string, double> mass_exponents(const std::vector<std::unique_ptr<A
     for (const auto& kv : a->mass_exponents())
       out.insert(kv);
   return out;
+}
+
+void Analysis::expect_state(const std::vector<double>& s, std::size_t n) const {
+  if (s.size() != n)
+    throw std::runtime_error("analysis '" + name_ + "' (" + type_ + "): checkpoint state of " +
+                             std::to_string(s.size()) + " numbers, expected " + std::to_string(n));
+}
+
+void save_analysis_states(const std::vector<std::unique_ptr<Analysis>>& analyses, CheckpointData& c) {
+  for (const auto& a : analyses)
+    if (auto s = a->state(); !s.empty()) c.reals["analysis_" + a->name()] = std::move(s);
+}
+
+void load_analysis_states(std::vector<std::unique_ptr<Analysis>>& analyses, const CheckpointData& c) {
+  for (auto& a : analyses) {
+    if (a->state().empty()) continue;
+    const auto it = c.reals.find("analysis_" + a->name());
+    if (it == c.reals.end())
+      throw std::runtime_error("checkpoint lacks the state of analysis '" + a->name() +
+                               "' (written by a scene without it)");
+    a->restore_state(it->second);
+  }
 }
 
 void run_analyses(std::vector<std::unique_ptr<Analysis>>& analyses, const AnalysisInput& in,

@@ -35,6 +35,9 @@ struct AnalysisInput {
   double time = 0;
   const std::vector<std::string>& wall_names;
   const std::vector<double>& wall_force; // 3 per named wall: the force the particles exert on it
+  // false for a frame the uninterrupted run does not output (a restart between outputs): evaluated, but
+  // kept out of running means and peaks.
+  bool accumulate = true;
 };
 
 class Analysis {
@@ -56,6 +59,15 @@ public:
   // in sweep.csv, docs/sweeps.md). The scene's `mass_exponent` parameter replaces p of the main figure.
   std::map<std::string, double> mass_exponents() const;
   void set_mass_exponent(double p) { main_exponent_ = p, main_exponent_set_ = true; }
+  // What the analysis has accumulated over earlier outputs (a running mean or peak, a height or origin
+  // measured at the first output), saved in checkpoints so that a restarted run reports what the
+  // uninterrupted one would. Empty for analyses of the current frame alone. restore_state throws
+  // std::runtime_error on a state of the wrong size.
+  virtual std::vector<double> state() const { return {}; }
+  virtual void restore_state(const std::vector<double>& s) { expect_state(s, 0); }
+
+protected:
+  void expect_state(const std::vector<double>& s, std::size_t n) const;
 
 protected:
   // The type's own exponents, keyed by output suffix ("" for the main figure, "_height", ...).
@@ -76,6 +88,11 @@ std::map<std::string, double> mass_exponents(const std::vector<std::unique_ptr<A
 // Evaluates them all into `out`.
 void run_analyses(std::vector<std::unique_ptr<Analysis>>& analyses, const AnalysisInput& in,
                   std::map<std::string, double>& out);
+// The accumulated state of every analysis with one, as /reals/analysis_<name> of a checkpoint, and back.
+// load_analysis_states throws std::runtime_error when the checkpoint lacks a state the scene's analyses
+// need (a checkpoint of another scene) or holds one of the wrong size.
+void save_analysis_states(const std::vector<std::unique_ptr<Analysis>>& analyses, CheckpointData& c);
+void load_analysis_states(std::vector<std::unique_ptr<Analysis>>& analyses, const CheckpointData& c);
 
 // ---- building blocks ----
 

@@ -203,6 +203,7 @@ int run_command(const std::vector<std::string>& args) {
       try {
         engine->restore(restart);
         exchange->load(restart);
+        load_analysis_states(analyses, restart);
       } catch (const std::runtime_error& e) {
         throw std::runtime_error("cannot restart from '" + o.restart + "': " + e.what());
       }
@@ -265,7 +266,10 @@ int run_command(const std::vector<std::string>& args) {
     FrameData frame = engine->frame();
     escapes.check(frame);
     SeriesRow row = series_row(obs);
-    run_analyses(analyses, AnalysisInput{frame, obs.time, info.wall_names, obs.wall_force}, row.analyses);
+    // A restart between two outputs gives a frame the uninterrupted run does not have.
+    const bool output_step = obs.step % frame_every == 0 || obs.step == end_step;
+    run_analyses(analyses, AnalysisInput{frame, obs.time, info.wall_names, obs.wall_force, output_step},
+                 row.analyses);
     exchange->record(row.analyses, engine->size());
     try {
       writer.write_frame(std::move(frame));
@@ -280,6 +284,7 @@ int run_command(const std::vector<std::string>& args) {
     try {
       CheckpointData c = engine->checkpoint();
       exchange->save(c);
+      save_analysis_states(analyses, c);
       write_checkpoint(checkpoint_path, c);
     } catch (const std::runtime_error& e) {
       throw OutputFailure(e.what());
@@ -300,6 +305,7 @@ int run_command(const std::vector<std::string>& args) {
       try {
         CheckpointData c = engine->checkpoint();
         exchange->save(c);
+        save_analysis_states(analyses, c);
         write_checkpoint(checkpoint_path, c);
         saved = "; checkpoint of step " + std::to_string(engine->step()) + " in " + checkpoint_path;
       } catch (const std::exception& e) {

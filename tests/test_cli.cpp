@@ -170,6 +170,47 @@ TEST_F(CliTest, RestartFromCheckpointEqualsUninterruptedRunBitwise) {
   H5Fclose(b);
 }
 
+// Analyses that accumulate over outputs (a running peak, a height and an origin measured at the first
+// output) continue from the checkpoint: the restarted run ends with the uninterrupted run's values, also
+// when it restarts between two outputs (that extra frame is kept out of the peak).
+TEST_F(CliTest, RestartContinuesTheAnalysesAccumulations) {
+  write("base.yaml", std::string(drop_scene) + R"(analyses:
+  - {type: unconfined_strength, name: peak, wall: floor, area: 1.0e-4}
+  - {type: wall_stress, name: floor_stress, wall: floor, area: 1.0e-4}
+  - {type: planar_flow, name: flow, axis: x}
+)");
+  const std::string common = "run base.yaml --quiet --threads 1 --set output.every=0.0025 ";
+  ASSERT_EQ(cgdem(common + "--out full.h5").code, 0);
+  // A checkpoint at 0.03375 s, between the outputs at 0.0325 s (the impact on the floor) and 0.035 s,
+  // then the continuation.
+  ASSERT_EQ(cgdem(common + "--out mid.h5 --set time.end=0.03375 --checkpoint-every 0.03375").code, 0);
+  const Result r = cgdem(common + "--out cont.h5 --restart mid.checkpoint.h5");
+  ASSERT_EQ(r.code, 0) << r.err;
+  hid_t a = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t b = H5Fopen((dir / "cont.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  for (const char* v : {"peak", "peak_peak_strain", "floor_stress_strain", "flow", "flow_front"}) {
+    const auto x = read_doubles(a, std::string("series/") + v),
+               y = read_doubles(b, std::string("series/") + v);
+    ASSERT_FALSE(x.empty()) << v;
+    ASSERT_FALSE(y.empty()) << v;
+    EXPECT_EQ(x.back(), y.back()) << v << " differs after the restart";
+  }
+  // The peak came before the checkpoint: the continuation alone would not have seen it.
+  const auto peak = read_doubles(a, "series/peak"), current = read_doubles(b, "series/peak_stress");
+  EXPECT_GT(peak.back(), *std::max_element(current.begin(), current.end()));
+  H5Fclose(a);
+  H5Fclose(b);
+  // A checkpoint of a scene without these analyses cannot continue one with them.
+  write("plain.yaml", drop_scene);
+  ASSERT_EQ(
+      cgdem("run plain.yaml --quiet --threads 1 --out plain.h5 --set time.end=0.01 --checkpoint-every 0.01")
+          .code,
+      0);
+  const Result bad = cgdem(common + "--out bad.h5 --restart plain.checkpoint.h5");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("lacks the state of analysis"), std::string::npos) << bad.err;
+}
+
 TEST_F(CliTest, SigkillMidRunLeavesEveryCompletedFrameReadable) {
   write("base.yaml", drop_scene);
   for (int attempt = 0; attempt < 3; ++attempt) {
