@@ -5,7 +5,8 @@ final value: e.g. the piston stress against strain of each law and k against the
     /usr/bin/python3 sweeps/plot_curves.py SWEEP_DIR --x stress_strain --y stress --out curve.png \
         [--from 0.32] [--to 0.58] [--xlabel ...] [--ylabel ...] [--yscale 1e-3] [--title ...]
 
-Reads SWEEP_DIR/runs/<run>/run.h5 (/series/<x>, /series/<y>, /series/time); the reference is drawn black.
+Reads SWEEP_DIR/runs/<run>/run.h5 (/series/<x>, /series/<y>, /series/time), preceded by its run.part<N>.h5
+when the run was continued from checkpoints; the reference runs (reference, reference_s<seed>) are drawn black.
 --from/--to keep the output frames with time in [from, to] (a test phase of a multi-phase run).
 """
 import argparse
@@ -39,21 +40,34 @@ def main():
     runs_dir = os.path.join(a.sweep_dir, "runs")
     if not os.path.isdir(runs_dir):
         sys.exit(f"plot_curves.py: {runs_dir} does not exist; run the sweep first (cgdem sweep ... --out {a.sweep_dir})")
-    runs = sorted(os.listdir(runs_dir), key=lambda r: (r != "reference", r))
+    runs = sorted(os.listdir(runs_dir), key=lambda r: (not r.startswith("reference"), r))
     fig, ax = plt.subplots(figsize=(7, 4.5))
     drawn = 0
     for run in runs:
         path = os.path.join(runs_dir, run, "run.h5")
         if not os.path.exists(path):
             continue
-        with h5py.File(path, "r") as f:
-            s = f["series"]
-            if a.x not in s or a.y not in s:
-                sys.exit(f"plot_curves.py: {path} has no series '{a.x}' or '{a.y}'; known: {', '.join(s.keys())}")
-            t, x, y = s["time"][:], s[a.x][:], s[a.y][:] * a.yscale
-        keep = (t >= a.t0) & (t <= a.t1)
-        style = dict(color="black", lw=2.2) if run == "reference" else dict(lw=1.4)
-        ax.plot(x[keep], y[keep], label=run.replace("_k", ", k = "), **style)
+        parts = sorted((p for p in os.listdir(os.path.join(runs_dir, run)) if p.startswith("run.part") and p.endswith(".h5")),
+                       key=lambda p: int(p[len("run.part"):-3]))
+        t, x, y = [], [], []
+        for piece in [os.path.join(runs_dir, run, p) for p in parts] + [path]:
+            with h5py.File(piece, "r") as f:
+                s = f["series"]
+                if a.x not in s or a.y not in s:
+                    sys.exit(f"plot_curves.py: {piece} has no series '{a.x}' or '{a.y}'; known: {', '.join(s.keys())}")
+                # A piece starts at its checkpoint: a time two pieces both hold is drawn once.
+                nt = s["time"][:]
+                t, x, y = t + list(nt), x + list(s[a.x][:]), y + list(s[a.y][:] * a.yscale)
+        order = sorted(range(len(t)), key=lambda i: t[i])
+        seen, keep_idx = set(), []
+        for i in order:
+            if t[i] not in seen and a.t0 <= t[i] <= a.t1:
+                seen.add(t[i])
+                keep_idx.append(i)
+        x = [x[i] for i in keep_idx]
+        y = [y[i] for i in keep_idx]
+        style = dict(color="black", lw=2.2) if run.startswith("reference") else dict(lw=1.4)
+        ax.plot(x, y, label=run.replace("_k", ", k = ").replace("_s", ", seed "), **style)
         drawn += 1
     if drawn == 0:
         sys.exit(f"plot_curves.py: no runs/<run>/run.h5 under {a.sweep_dir}")
