@@ -1,12 +1,15 @@
 #pragma once
 // The scene description: what a YAML scene file says, after parsing and validation
 // (drivers/scene_parser.cpp), in SI units. Plain host data; the engine builds its device state from it.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
+#include "core/triangle_mesh_data.hpp"
 
 namespace cgdem {
 
@@ -116,7 +119,7 @@ struct GroupSpec {
 
 struct WallSpec {
   std::string name;
-  std::string type = "plane"; // plane | cylinder | cone
+  std::string type = "plane"; // plane | cylinder | cone | mesh
   std::string material;
   Vec3d point{0, 0, 0};  // plane: a point on it (a bounded plane's centre); cylinder, cone: base centre
   Vec3d normal{0, 0, 1}; // plane: unit normal pointing into the particles
@@ -127,11 +130,30 @@ struct WallSpec {
   Vec3d edge{0, 0, 0};           // plane: direction of the rectangle's first side (zero: chosen)
   double orifice = 0;            // plane: radius of a hole around point (a bounded plane only)
   bool caps = false;             // cylinder end caps
+  // mesh: the file as given (relative to the scene's directory) and resolved, its placement (scale, then
+  // rotation in degrees about x, y, z in turn, then translation) and the triangles read from it.
+  std::string file, file_path;
+  double scale = 1;
+  Vec3d rotate{0, 0, 0}, translate{0, 0, 0};
+  std::shared_ptr<const TriangleMeshData> mesh;
   bool bounded() const { return type == "plane" && (radius > 0 || size[0] > 0); }
   // Largest distance of the wall's surface from its axis (the rim speed of a rotating wall).
   double reach_radius() const {
     if (type == "cone") return radius > end_radius ? radius : end_radius;
     if (type == "plane" && size[0] > 0) return 0.5 * std::sqrt(size[0] * size[0] + size[1] * size[1]);
+    if (type == "mesh" && mesh) {
+      double r2 = 0;
+      for (const auto& v : mesh->vertices) {
+        double rel[3], along = 0;
+        for (int a = 0; a < 3; ++a)
+          rel[a] = v[a] - point[a], along += rel[a] * axis[a];
+        double d2 = 0;
+        for (int a = 0; a < 3; ++a)
+          d2 += (rel[a] - along * axis[a]) * (rel[a] - along * axis[a]);
+        r2 = std::max(r2, d2);
+      }
+      return std::sqrt(r2);
+    }
     return radius;
   }
   // Motion: translation velocity and rotation rate about the axis (rad/s), active in [start, stop).

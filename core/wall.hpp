@@ -7,6 +7,8 @@
 //   - Cylinder: the inner side of a finite cylinder (a drum, a die).
 //   - Cone: a thin frustum, radius `radius` at `point` and `end_radius` at point + length * axis, touched
 //     on either side and at both rims (a hopper whose orifice is the narrow end).
+//   - Mesh: a triangle mesh (equipment from CAD), its triangles held by the engine (kernels/mesh_walls.hpp);
+//     it moves as a whole by the same translation segments and rotation about axis through point.
 // A cylinder's end caps are expanded on the host into two disk plates that report their force to the
 // cylinder (owner), so every wall part has its own contact-history slot.
 #include "core/types.hpp"
@@ -14,10 +16,12 @@
 namespace cgdem {
 
 struct Wall {
-  enum Type : int { Plane = 0, Cylinder = 1, Plate = 2, Cone = 3 };
+  enum Type : int { Plane = 0, Cylinder = 1, Plate = 2, Cone = 3, Mesh = 4 };
   int type = Plane;
   int material = 0;
   int owner = 0;             // index of the named wall this part belongs to (force reporting)
+  int mesh = -1;             // Mesh: index of its triangle mesh in the engine's meshes
+  int history_offset = 0;    // where this part's contact history starts in a particle's wall history row
   Vec3 point;                // plane, plate: a point on it (a plate's centre); cylinder, cone: base centre
   Vec3 axis{0, 0, 1};        // plane, plate: unit normal (into the particles for a plane); others: unit axis
   Vec3 edge{1, 0, 0};        // plate: unit direction of the rectangle's first side (in the plane)
@@ -47,6 +51,10 @@ struct Wall {
     return d;
   }
   KOKKOS_INLINE_FUNCTION bool moving(Real t) const { return t >= motion_start && t < motion_stop; }
+  // Angle turned about the axis since time 0 (rad).
+  KOKKOS_INLINE_FUNCTION Real angle(Real t) const {
+    return angular_velocity * span(t, motion_start, motion_stop);
+  }
   // Translation velocity at time t (the sum of the active segments).
   KOKKOS_INLINE_FUNCTION Vec3 translation_velocity(Real t) const {
     Vec3 v = moving(t) ? velocity : Vec3{};
@@ -62,6 +70,7 @@ struct Wall {
 struct PlacedWall {
   int type = Wall::Plane;
   int material = 0;
+  int mesh = -1, history_offset = 0;
   Vec3 base; // plane, plate: a point on it; cylinder, cone: centre of the base
   Vec3 axis{0, 0, 1};
   Vec3 edge{1, 0, 0};
@@ -74,6 +83,8 @@ KOKKOS_INLINE_FUNCTION PlacedWall place(const Wall& w, Real t) {
   PlacedWall p;
   p.type = w.type;
   p.material = w.material;
+  p.mesh = w.mesh;
+  p.history_offset = w.history_offset;
   p.base = w.point + w.offset(t);
   p.axis = w.axis;
   p.edge = w.edge;
@@ -129,6 +140,7 @@ KOKKOS_INLINE_FUNCTION Vec3 plate_nearest(const PlacedWall& w, const Vec3& rel, 
 // reach.
 KOKKOS_INLINE_FUNCTION WallContact wall_contact(const PlacedWall& w, const Vec3& x, Real radius) {
   WallContact c;
+  if (w.type == Wall::Mesh) return c; // its triangles are the mesh terms' (kernels/mesh_walls.hpp)
   c.rel = x - w.base;
   c.along = dot(c.rel, w.axis);
   if (w.type == Wall::Plane) {

@@ -523,6 +523,12 @@ int check_command(const std::vector<std::string>& args) {
                   cg.factor);
     }
     std::printf("walls        %zu named, %zu parts\n", p.config.wall_names.size(), p.config.walls.size());
+    for (const WallSpec& w : p.scene.walls)
+      if (w.mesh)
+        std::printf("  mesh %-12s %zu triangles, %zu vertices, bounding box [%.4g, %.4g, %.4g] - [%.4g, %.4g, "
+                    "%.4g] m (%s)\n",
+                    w.name.c_str(), w.mesh->triangles.size(), w.mesh->vertices.size(), w.mesh->lo[0],
+                    w.mesh->lo[1], w.mesh->lo[2], w.mesh->hi[0], w.mesh->hi[1], w.mesh->hi[2], w.file.c_str());
     std::printf("skin         %.4g m\n", p.config.skin);
     // Measured, not estimated: the engine as `run` builds it (store, first neighbour list with its history,
     // cells), plus the host copy each output frame takes while the writer runs (FrameData: id, position,

@@ -77,8 +77,13 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
     Wall wall;
     wall.type = s.type == "cylinder" ? Wall::Cylinder
                 : s.type == "cone"   ? Wall::Cone
+                : s.type == "mesh"   ? Wall::Mesh
                 : s.bounded()        ? Wall::Plate
                                      : Wall::Plane;
+    if (wall.type == Wall::Mesh) {
+      wall.mesh = static_cast<int>(c.meshes.size());
+      c.meshes.push_back(*s.mesh);
+    }
     wall.material = std::max(0, scene.material_index(s.material));
     wall.owner = static_cast<int>(w);
     wall.point = to_vec(s.point);

@@ -3,6 +3,7 @@
 #include "models/component_lists.hpp"
 
 #include <yaml-cpp/yaml.h>
+#include "setup/mesh_loader.hpp"
 #include "setup/scaling.hpp"
 
 #include <algorithm>
@@ -60,7 +61,7 @@ const std::vector<std::string> kCoarseLaws = {
 const std::vector<std::string> kDistributions = {"mono", "uniform", "normal", "lognormal"};
 const std::vector<std::string> kPlacements = {"lattice", "random_box", "random_cylinder", "file", "inlet"};
 const std::vector<std::string> kOutletTypes = {"plane", "box"};
-const std::vector<std::string> kWallTypes = {"plane", "cylinder", "cone"};
+const std::vector<std::string> kWallTypes = {"plane", "cylinder", "cone", "mesh"};
 const std::vector<std::string> kOutputFields = {"position", "velocity", "angular_velocity", "radius", "mass",
                                                 "group",    "id"};
 
@@ -818,6 +819,50 @@ struct Parser {
     }
   }
 
+  // A mesh wall's file, read and placed now, so that an unreadable or unusable mesh is a scene error
+  // naming its key.
+  void parse_mesh(MapView& m, WallSpec& w) {
+    const Field ff =
+        m.require("file", "give the mesh file (STL, OBJ, PLY; relative to the scene's directory)");
+    w.file = as_str(ctx, ff);
+    std::filesystem::path path(w.file);
+    if (path.is_relative() && !base_dir.empty()) path = (base_dir / path).lexically_normal();
+    w.file_path = path.string();
+    if (m.has("scale")) {
+      w.scale = as_num(ctx, m.get("scale"));
+      check(ctx, w.scale > 0, m.get("scale"), "scale must be > 0 (got " + num_str(w.scale) + ")",
+            "give the factor from the file's units to metres, e.g. 0.001 for a file in mm");
+    }
+    opt_vec3(ctx, m, "rotate", w.rotate);
+    opt_vec3(ctx, m, "translate", w.translate);
+    if (!std::ifstream(w.file_path))
+      ctx.fail(ff.path, ff.mark, "cannot read mesh file '" + w.file_path + "'",
+               "check the path (a relative path is taken from the scene file's directory)");
+    TriangleMeshData mesh;
+    try {
+      mesh = load_triangle_mesh(w.file_path, w.scale, w.rotate, w.translate);
+    } catch (const std::runtime_error& e) {
+      ctx.fail(ff.path, ff.mark, e.what(),
+               "export the part as a triangle mesh (binary or ASCII STL, OBJ, PLY)");
+    }
+    const std::string problem = mesh_problem(mesh);
+    if (!problem.empty())
+      ctx.fail(ff.path, ff.mark, "mesh '" + w.file + "': " + problem,
+               "repair the mesh (remove zero-area triangles) before export");
+    const DomainSpec& d = scene.domain;
+    for (int a = 0; a < 3; ++a) {
+      const double slack = 1e-9 * (d.hi[a] - d.lo[a]);
+      if (mesh.lo[a] < d.lo[a] - slack || mesh.hi[a] > d.hi[a] + slack)
+        ctx.fail(ff.path, ff.mark,
+                 "mesh '" + w.file + "' spans " + "xyz"[a] + " in [" + num_str(mesh.lo[a]) + ", " +
+                     num_str(mesh.hi[a]) + "] m, outside the domain's [" + num_str(d.lo[a]) + ", " +
+                     num_str(d.hi[a]) + "] m",
+                 "place it inside with scale/rotate/translate (scale 0.001 for a file in mm) or enlarge "
+                 "domain.lo/hi");
+    }
+    w.mesh = std::make_shared<const TriangleMeshData>(std::move(mesh));
+  }
+
   void parse_walls(const Field& f) {
     if (f.node.IsNull()) return;
     if (!f.node.IsSequence())
@@ -827,7 +872,7 @@ struct Parser {
       const Field wf = item(f, i);
       MapView m(ctx, wf,
                 {"name", "type", "material", "point", "normal", "axis", "radius", "end_radius", "length",
-                 "size", "edge", "orifice", "caps", "motion"});
+                 "size", "edge", "orifice", "caps", "motion", "file", "scale", "rotate", "translate"});
       WallSpec w;
       w.name = m.has("name") ? as_str(ctx, m.get("name")) : "wall" + std::to_string(i);
       for (const auto& other : scene.walls)
@@ -839,6 +884,7 @@ struct Parser {
       if (w.type == "plane") allowed.insert(allowed.end(), {"normal", "radius", "size", "edge", "orifice"});
       if (w.type == "cylinder") allowed.insert(allowed.end(), {"axis", "radius", "length", "caps"});
       if (w.type == "cone") allowed.insert(allowed.end(), {"axis", "radius", "end_radius", "length"});
+      if (w.type == "mesh") allowed.insert(allowed.end(), {"file", "scale", "rotate", "translate", "axis"});
       for (const auto& k : m.keys())
         if (std::find(allowed.begin(), allowed.end(), k) == allowed.end())
           ctx.fail(m.sub(k), m.get(k).mark, "key '" + k + "' does not apply to a " + w.type + " wall",
@@ -900,6 +946,9 @@ struct Parser {
                     " m)",
                 "make the orifice smaller than the plane's radius or half its shorter side");
         }
+      } else if (w.type == "mesh") {
+        parse_mesh(m, w);
+        unit_vector("axis", w.axis); // of the rotation in `motion` (through point)
       } else {
         unit_vector("axis", w.axis);
         length_key("length", w.length, true, false, w.type + " length along its axis");

@@ -23,6 +23,7 @@
 #include "core/domain.hpp"
 #include "core/particle_store.hpp"
 #include "core/wall.hpp"
+#include "kernels/mesh_walls.hpp"
 #include "kernels/force_blocks.hpp"
 #include "models/contact_law.hpp"
 
@@ -123,61 +124,170 @@ struct ContactForces {
     ParamTable wall_params;
     Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history;
     Kokkos::View<Real* [3], Mem> wall_force;
+    MeshGeometry<Mem> mesh; // the mesh parts' triangles and each particle's candidates
     Law law;
     Real dt = 0, reach = 0;
     int nwalls = 0;
     bool record = false;
 
+    // The law between particle i and a wall surface at distance ri - overlap along `normal` (unit, from the
+    // particle toward the surface), whose surface moves at surface_velocity; `wh` its H history values.
+    KOKKOS_FORCEINLINE_FUNCTION models::ContactForce
+    surface(const PlacedWall& wall, const Vec3& normal, Real overlap, const Vec3& surface_velocity,
+            ForceReal* wh, const Vec3& vi, const Vec3& wi, Real ri, Real mi, Real scale_i, int mat_i) const {
+      Real h[H > 0 ? H : 1];
+      models::PairState st;
+      st.normal = normal;
+      st.overlap = overlap;
+      const models::PairParameters& pp = wall_params(mat_i, wall.material);
+      st.lever_share = pp.lever_share;
+      // As for a pair: the spin part (w_i x l_i n) is tangential already.
+      const Vec3 dv = vi - surface_velocity;
+      st.overlap_rate = dot(dv, normal);
+      st.tangential_velocity =
+          (dv - st.overlap_rate * normal) + cross(wi, models::lever_arm(ri, st) * normal);
+      st.relative_rotation = wi;
+      st.omega_i = wi;
+      st.radius_i = ri;
+      st.radius_j = 0;
+      st.radius_eff = ri;
+      st.mass_eff = mi;
+      st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
+      st.volume_j = 0;
+      st.dt = dt;
+      st.scale_i = scale_i;
+      st.scale_j = 0;
+      if constexpr (H > 0)
+        for (int k = 0; k < H; ++k)
+          h[k] = wh[k];
+      const models::ContactForce cf = law(pp, st, h);
+      if constexpr (H > 0)
+        for (int k = 0; k < H; ++k)
+          wh[k] = static_cast<ForceReal>(h[k]);
+      return cf;
+    }
+
     KOKKOS_FORCEINLINE_FUNCTION int operator()(int i, const Vec3& xi, const Vec3& vi, const Vec3& wi, Real ri,
                                                Real mi, Real scale_i, int mat_i, Vec3& f, Vec3& t) const {
       int contacts = 0;
-      Real h[H > 0 ? H : 1];
       for (int w = 0; w < nwalls; ++w) {
         const PlacedWall& wall = walls(w);
-        const WallContact wc = wall_contact(wall, xi, ri);
-        ForceReal* const wh = H > 0 ? &wall_history(i, w * H) : nullptr; // this wall's H values
+        ForceReal* const wh = wall_history.extent(1) > 0 ? &wall_history(i, wall.history_offset) : nullptr;
         Vec3 fw;
+        if (wall.type == Wall::Mesh) {
+          contacts += mesh_terms(i, w, wall, wh, xi, vi, wi, ri, mi, scale_i, mat_i, fw, t);
+          f += fw;
+          if (record) store3(wall_force, i * nwalls + w, fw);
+          continue;
+        }
+        const WallContact wc = wall_contact(wall, xi, ri);
         if (!wc.reachable || wc.overlap <= -reach) {
           // Most particles are far from most walls and their history is already zero: read first.
           if constexpr (H > 0)
             for (int k = 0; k < H; ++k)
               if (wh[k] != 0) wh[k] = 0;
         } else {
-          const Vec3 surface_velocity = wall_surface_velocity(wall, wc);
-          models::PairState st;
-          st.normal = wc.normal;
-          st.overlap = wc.overlap;
-          const models::PairParameters& pp = wall_params(mat_i, wall.material);
-          st.lever_share = pp.lever_share;
-          // As for a pair: the spin part (w_i x l_i n) is tangential already.
-          const Vec3 dv = vi - surface_velocity;
-          st.overlap_rate = dot(dv, wc.normal);
-          st.tangential_velocity =
-              (dv - st.overlap_rate * wc.normal) + cross(wi, models::lever_arm(ri, st) * wc.normal);
-          st.relative_rotation = wi;
-          st.omega_i = wi;
-          st.radius_i = ri;
-          st.radius_j = 0;
-          st.radius_eff = ri;
-          st.mass_eff = mi;
-          st.volume_i = (4.0 / 3.0) * math::pi * ri * ri * ri;
-          st.volume_j = 0;
-          st.dt = dt;
-          st.scale_i = scale_i;
-          st.scale_j = 0;
-          if constexpr (H > 0)
-            for (int k = 0; k < H; ++k)
-              h[k] = wh[k];
-          const models::ContactForce cf = law(pp, st, h);
-          if constexpr (H > 0)
-            for (int k = 0; k < H; ++k)
-              wh[k] = static_cast<ForceReal>(h[k]);
+          const models::ContactForce cf =
+              surface(wall, wc.normal, wc.overlap, wall_surface_velocity(wall, wc), wh, vi, wi, ri, mi,
+                      scale_i, mat_i);
           fw = cf.force;
           f += cf.force;
           t += cf.torque;
           contacts += cf.active ? 1 : 0;
         }
         if (record) store3(wall_force, i * nwalls + w, fw);
+      }
+      return contacts;
+    }
+
+    // Particle i against mesh part w (kernels/mesh_walls.hpp): its force into fw, torque added to t;
+    // returns the contacts.
+    KOKKOS_INLINE_FUNCTION int mesh_terms(int i, int w, const PlacedWall& wall, ForceReal* slots,
+                                          const Vec3& xi, const Vec3& vi, const Vec3& wi, Real ri, Real mi,
+                                          Real scale_i, int mat_i, Vec3& fw, Vec3& t) const {
+      constexpr int S = MeshSlots::kSlots, W = MeshSlots::kHeader + H;
+      // The nearest point on each of this part's candidates within reach, offered to the filter faces
+      // first (a second walk over the candidates for edges and vertices: no cap on how many are near).
+      // On-plane and coincidence within 1e-4 of the radius: above the rounding of vertices stored as
+      // floats (binary STL), far below any real second contact.
+      MeshContactFilter filter(1e-4 * ri);
+      const Real within = ri + reach;
+      for (int pass = 0; pass < 2; ++pass)
+        for (int s = mesh.candidate_start(i); s < mesh.candidate_start(i + 1); ++s) {
+          const int tr = mesh.candidates(s);
+          if (mesh.triangle_part(tr) != w) continue;
+          const Vec3 a = mesh.vertex(mesh.triangles(tr, 0)), b = mesh.vertex(mesh.triangles(tr, 1)),
+                     c = mesh.vertex(mesh.triangles(tr, 2));
+          TrianglePoint p = closest_on_triangle(xi, a, b, c);
+          const Vec3 toward = xi - p.point;
+          const Real d2 = norm2(toward);
+          if (d2 >= within * within || !(d2 > 0)) continue;
+          if (acts_as_face(p, toward, triangle_normal(a, b, c))) p.feature = TrianglePoint::Face;
+          if ((p.feature == TrianglePoint::Face) != (pass == 0)) continue;
+          filter.offer(p, (1 / math::sqrt(d2)) * toward, tr);
+        }
+      // Slots: by triangle, then by last step's contact point, then a free one.
+      int slot_of[MeshContactFilter::kMax];
+      bool taken[S] = {};
+      for (int k = 0; k < filter.n; ++k) {
+        slot_of[k] = -1;
+        for (int s = 0; s < S; ++s)
+          if (!taken[s] && slots[s * W] == ForceReal(filter.tag[k] + 1)) {
+            slot_of[k] = s;
+            taken[s] = true;
+            break;
+          }
+      }
+      const Real match2 = 0.01 * ri * ri; // within 0.1 radius: the same contact, moved on
+      for (int k = 0; k < filter.n; ++k) {
+        if (slot_of[k] >= 0) continue;
+        for (int s = 0; s < S; ++s) {
+          if (taken[s] || slots[s * W] == 0) continue;
+          const Vec3 was{Real(slots[s * W + 1]), Real(slots[s * W + 2]), Real(slots[s * W + 3])};
+          if (norm2(was - filter.point[k]) < match2) {
+            slot_of[k] = s;
+            taken[s] = true;
+            break;
+          }
+        }
+      }
+      for (int k = 0; k < filter.n; ++k) {
+        if (slot_of[k] >= 0) continue;
+        for (int s = 0; s < S; ++s)
+          if (!taken[s] && slots[s * W] == 0) {
+            slot_of[k] = s;
+            taken[s] = true;
+            break;
+          }
+      }
+      // Slots no contact took are cleared; a taken slot keeps its history for its new contact.
+      for (int s = 0; s < S; ++s)
+        if (!taken[s] && slots[s * W] != 0)
+          for (int k = 0; k < W; ++k)
+            slots[s * W + k] = 0;
+      int contacts = 0;
+      for (int k = 0; k < filter.n; ++k) {
+        const Vec3 p = filter.point[k];
+        const Vec3 d = p - xi;
+        const Real dist = norm(d);
+        if (!(dist > 0)) continue;
+        ForceReal spare[H > 0 ? H : 1] = {};
+        ForceReal* row = slot_of[k] >= 0 ? &slots[slot_of[k] * W] : nullptr;
+        if (row) {
+          row[0] = ForceReal(filter.tag[k] + 1);
+          row[1] = ForceReal(p.x);
+          row[2] = ForceReal(p.y);
+          row[3] = ForceReal(p.z);
+        }
+        const Vec3 rel = p - wall.base;
+        const Vec3 arm = rel - dot(rel, wall.axis) * wall.axis;
+        const Vec3 surface_velocity = wall.velocity + wall.spin * cross(wall.axis, arm);
+        const models::ContactForce cf =
+            surface(wall, (1 / dist) * d, ri - dist, surface_velocity, row ? row + MeshSlots::kHeader : spare,
+                    vi, wi, ri, mi, scale_i, mat_i);
+        fw += cf.force;
+        t += cf.torque;
+        contacts += cf.active ? 1 : 0;
       }
       return contacts;
     }
@@ -221,10 +331,11 @@ struct ContactForces {
     Domain domain;
     ParamTable pair_params, wall_params;                              // materials x materials
     Kokkos::View<PlacedWall*, Mem> walls;                             // placed at this step's time
-    Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history; // N x (wall parts x H)
+    Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history; // N x the parts' history widths
     // Extent > 0: the force each particle feels from each wall part is stored there too (N x wall parts,
     // for the wall reductions).
     Kokkos::View<Real* [3], Mem> wall_force;
+    MeshGeometry<Mem> mesh; // the mesh parts' triangles where they are now, and each particle's candidates
     Real dt = 0;
     Real reach = 0;            // the law's longest interaction range beyond contact
     Real max_radius = 0;       // of the particles in the store
@@ -584,6 +695,7 @@ struct ContactForces {
     w.dt = in.dt;
     w.reach = in.reach;
     w.nwalls = static_cast<int>(in.walls.extent(0));
+    w.mesh = in.mesh;
     w.record = in.wall_force.extent(0) > 0;
     return w;
   }

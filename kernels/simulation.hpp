@@ -77,7 +77,10 @@ public:
       if (!(max_d2 < Kokkos::Experimental::infinity<Real>::value))
         throw BlowUpError(diagnose("a position or velocity became NaN or Inf"));
       displacement_since_build_ = std::sqrt(max_d2);
-      if (4 * max_d2 > cfg_.skin * cfg_.skin) rebuild(false); // sets it to 0
+      // A particle and a mesh may each move skin/2 before a contact could be missing from the lists.
+      if (4 * max_d2 > cfg_.skin * cfg_.skin ||
+          (!meshes_.empty() && 2 * meshes_.motion_since_build(cfg_.walls, (step_ + 1) * cfg_.dt) > cfg_.skin))
+        rebuild(false); // sets it to 0
       ++step_;
       time_ = step_ * cfg_.dt; // not accumulated: a restart reproduces it bitwise
       compute_forces(s == steps - 1, /*cleared=*/true);
@@ -132,7 +135,7 @@ public:
   std::size_t bytes() const override {
     return std::size_t(n_) * ParticleStore<Mem>::bytes_per_particle() + nl_.bytes() + blocks_.bytes() +
            wall_history_.span() * sizeof(ForceReal) + reorder_scratch_.span() * sizeof(double) +
-           wall_force_record_.span() * sizeof(Real) + bins_.bytes() +
+           wall_force_record_.span() * sizeof(Real) + bins_.bytes() + meshes_.bytes() +
            (identity_.span() + old_index_.span()) * sizeof(int);
   }
   std::string physics() const override { return physics_; }
@@ -159,7 +162,9 @@ private:
   Kokkos::View<Wall*, Mem> walls_;
   Kokkos::View<PlacedWall*, Mem> placed_walls_; // walls_ at the time of the last force pass
   typename Kokkos::View<PlacedWall*, Mem>::HostMirror placed_walls_host_;
-  HistoryView wall_history_;
+  HistoryView wall_history_; // N x history_width_: each wall part's history (Wall::history_offset)
+  int history_width_ = 0;
+  MeshWalls<ExecSpace> meshes_;                // the mesh parts' triangles and each particle's candidates
   Kokkos::View<double*, Mem> reorder_scratch_; // one field at a time during a reorder (kernels/reorder.hpp)
   Kokkos::View<Real* [3], Mem> wall_force_record_; // N x wall parts, written on recording steps
   NeighborList<ExecSpace, Law> nl_;

@@ -61,6 +61,13 @@ void Simulation<Law, ExecSpace>::upload_tables() {
     }
   Kokkos::deep_copy(pair_params_, hp);
   Kokkos::deep_copy(wall_params_, hw);
+  // Each wall part's place in a particle's wall-history row: H values, or a mesh part's slots.
+  history_width_ = 0;
+  for (Wall& w : cfg_.walls) {
+    w.history_offset = history_width_;
+    history_width_ += w.type == Wall::Mesh ? MeshSlots::width(H) : H;
+  }
+  meshes_.upload(cfg_.meshes, cfg_.walls);
   walls_ = Kokkos::View<Wall*, Mem>("cgdem::kernels::walls", cfg_.walls.size());
   auto hwalls = Kokkos::create_mirror_view(walls_);
   for (std::size_t w = 0; w < cfg_.walls.size(); ++w)
@@ -72,8 +79,8 @@ void Simulation<Law, ExecSpace>::upload_tables() {
 
 template <class Law, class ExecSpace>
 void Simulation<Law, ExecSpace>::allocate_per_particle_scratch() {
-  wall_history_ = HistoryView("cgdem::kernels::wall_history", n_, cfg_.walls.size() * H);
-  const std::size_t scratch_bytes = reorder_scratch_bytes(cfg_.walls.size() * H * sizeof(ForceReal));
+  wall_history_ = HistoryView("cgdem::kernels::wall_history", n_, history_width_);
+  const std::size_t scratch_bytes = reorder_scratch_bytes(std::size_t(history_width_) * sizeof(ForceReal));
   reorder_scratch_ =
       Kokkos::View<double*, Mem>("cgdem::kernels::reorder_scratch",
                                  std::size_t(n_) * ((scratch_bytes + sizeof(double) - 1) / sizeof(double)));
@@ -109,6 +116,10 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
   nl_.build(cfg_.domain, grid_, bins_, store_.position, store_.radius, cutoff_extra_, max_radius_, cfg_.reach,
             n_, old_index, !first);
   blocks_.build(cfg_.domain, grid_, bins_, n_);
+  if (!meshes_.empty()) {
+    meshes_.place(walls_, cfg_.walls, time_);
+    meshes_.build(grid_, store_.position, store_.radius, n_, max_radius_, cutoff_extra_, time_);
+  }
   displacement_since_build_ = 0;
   Kokkos::deep_copy(ExecSpace(), store_.position_at_build, store_.position);
   Kokkos::fence();
@@ -127,6 +138,7 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool cl
   for (std::size_t w = 0; w < cfg_.walls.size(); ++w)
     placed_walls_host_(w) = place(cfg_.walls[w], time_);
   Kokkos::deep_copy(placed_walls_, placed_walls_host_);
+  if (!meshes_.empty()) meshes_.place(walls_, cfg_.walls, time_);
   using Forces = ContactForces<ExecSpace, Law>;
   typename Forces::Inputs in;
   in.domain = cfg_.domain;
@@ -135,6 +147,7 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool cl
   in.walls = placed_walls_;
   in.wall_history = wall_history_;
   in.wall_force = record;
+  in.mesh = meshes_.geometry();
   in.dt = cfg_.dt;
   in.reach = cfg_.reach;
   in.max_radius = max_radius_;
@@ -348,6 +361,7 @@ CheckpointData Simulation<Law, ExecSpace>::checkpoint() {
   c.scalars["builds"] = static_cast<double>(builds_);
   c.scalars["num_slots"] = nl_.num_slots;
   c.scalars["history_size"] = H;
+  c.scalars["mesh_built_at"] = meshes_.built_at();
   ParticleStore<Mem>::for_each_field(store_, [&c](const char* name, const auto& field) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     if constexpr (std::is_integral_v<T>)
@@ -424,6 +438,12 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   bins_.build(grid_, store_.position_at_build, n_);
   blocks_.build(cfg_.domain, grid_, bins_, n_);
   nl_.partner_slots_indexed = false; // the slots were replaced
+  if (!meshes_.empty()) {
+    // The mesh candidates as the last build made them: vertices and particles where they were then.
+    const Real built_at = need(c.scalars, "mesh_built_at");
+    meshes_.place(walls_, cfg_.walls, built_at);
+    meshes_.build(grid_, store_.position_at_build, store_.radius, n_, max_radius_, cutoff_extra_, built_at);
+  }
   builds_ = static_cast<long>(need(c.scalars, "builds"));
   step_ = c.step;
   time_ = c.time;
@@ -466,7 +486,7 @@ void Simulation<Law, ExecSpace>::exchange(const std::vector<std::int64_t>& remov
     else
       compact(c.reals.at(name), width);
   });
-  compact(c.reals.at("wall_history"), parts * H);
+  compact(c.reals.at("wall_history"), std::size_t(history_width_));
   if (parts > 0) compact(c.reals.at("wall_force_record"), parts * 3);
   // The added particles' own fields.
   for (std::size_t k = 0; k < add.size(); ++k) {

@@ -17,6 +17,7 @@ struct EngineConfig {
   std::vector<models::PairParameters> pair_params; // num_materials^2, row-major, symmetric
   std::vector<models::PairParameters> wall_params; // particle material x wall material
   std::vector<Wall> walls;                         // wall parts (cylinder caps expanded)
+  std::vector<TriangleMeshData> meshes;            // of the mesh parts (Wall::mesh indexes this)
   std::vector<std::string> wall_names;             // named walls; Wall::owner indexes this
   Domain domain;
   Vec3 gravity;
