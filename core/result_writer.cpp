@@ -1,5 +1,6 @@
 #include "core/result_writer.hpp"
 #include "core/hdf5_guard.hpp"
+#include "core/triangle_mesh.hpp"
 
 #include <hdf5.h>
 #include <oneapi/tbb/task_arena.h>
@@ -361,8 +362,8 @@ std::size_t field_size(const FrameData& f, Field bit) {
   return 0;
 }
 
-const char* const kBuiltinSeries[] = {"time",     "step",      "kinetic_energy", "rotational_energy",
-                                      "contacts", "wall_force"};
+const char* const kBuiltinSeries[] = {"time",     "step",       "kinetic_energy", "rotational_energy",
+                                      "contacts", "wall_force", "wall_torque"};
 
 bool is_builtin_series(const std::string& k) {
   for (const char* b : kBuiltinSeries)
@@ -449,9 +450,21 @@ struct ResultWriter::Impl {
         create_series_dataset(series, n, H5T_IEEE_F64LE, 0, 0);
       for (const char* n : {"step", "contacts"})
         create_series_dataset(series, n, H5T_STD_I64LE, 0, 0);
-      Hid walls = open_or_create_group(series, "wall_force");
-      for (const auto& w : info.wall_names)
-        create_series_dataset(walls, w.c_str(), H5T_IEEE_F64LE, 0, 3);
+      if (!info.meshes.empty()) {
+        Hid meshes = open_or_create_group(file, "meshes");
+        for (const auto& m : info.meshes) {
+          Hid g = open_or_create_group(meshes, m.name.c_str());
+          write_dataset(g, "triangles", H5T_STD_I32LE, H5T_NATIVE_INT32, m.data.triangles.data(),
+                        m.data.triangles.size(), 3);
+          write_dataset(g, "vertices", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, m.data.vertices.data(),
+                        m.data.vertices.size(), 3);
+        }
+      }
+      for (const char* group : {"wall_force", "wall_torque"}) {
+        Hid walls = open_or_create_group(series, group);
+        for (const auto& w : info.wall_names)
+          create_series_dataset(walls, w.c_str(), H5T_IEEE_F64LE, 0, 3);
+      }
     }
     set_attr(file, "frames_complete", std::int64_t(0));
     set_attr(file, "series_complete", std::int64_t(0));
@@ -496,6 +509,20 @@ struct ResultWriter::Impl {
       hid_t mt = fi.integer ? (fi.bytes == 8 ? H5T_NATIVE_INT64 : H5T_NATIVE_INT32) : H5T_NATIVE_DOUBLE;
       write_dataset(g, fi.name, ft, mt, data, n, hsize_t(fi.cols));
     }
+    // Moving meshes where they are at this frame's time.
+    for (const auto& m : info.meshes) {
+      if (!m.moves()) continue;
+      const Wall& w = m.motion;
+      const Vec3 shift = w.point + w.offset(f.time);
+      const Real angle = w.angle(f.time);
+      std::vector<std::array<double, 3>> v;
+      v.reserve(m.data.vertices.size());
+      for (const auto& x : m.data.vertices) {
+        const Vec3 p = shift + rotate_about(Vec3{x[0], x[1], x[2]} - w.point, w.axis, angle);
+        v.push_back({p.x, p.y, p.z});
+      }
+      write_dataset(g, ("mesh_" + m.name).c_str(), H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), v.size(), 3);
+    }
   }
 
   void append_series_row(hid_t file, std::int64_t row_index, const SeriesRow& r) const {
@@ -520,6 +547,11 @@ struct ResultWriter::Impl {
       Hid walls(H5Gopen2(series, "wall_force", H5P_DEFAULT), H5Gclose, "open /series/wall_force");
       for (std::size_t w = 0; w < info.wall_names.size(); ++w)
         append_row(walls, info.wall_names[w], rows, H5T_NATIVE_DOUBLE, r.wall_force.data() + 3 * w);
+    }
+    if (H5Lexists(series, "wall_torque", H5P_DEFAULT) > 0) { // files opened for appending may predate it
+      Hid walls(H5Gopen2(series, "wall_torque", H5P_DEFAULT), H5Gclose, "open /series/wall_torque");
+      for (std::size_t w = 0; w < info.wall_names.size(); ++w)
+        append_row(walls, info.wall_names[w], rows, H5T_NATIVE_DOUBLE, r.wall_torque.data() + 3 * w);
     }
     for (const auto& name : existing) {
       if (is_builtin_series(name)) continue;
@@ -607,7 +639,30 @@ struct ResultWriter::Impl {
       }
       x << "      </Grid>\n";
     }
-    x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
+    x << "    </Grid>\n";
+    // Each mesh wall: its triangles at every frame (static ones with their vertices of time 0).
+    for (const auto& mesh : info.meshes) {
+      const std::string base = h5 + ":/meshes/" + xml_escape(mesh.name);
+      x << "    <Grid Name=\"mesh_" << xml_escape(mesh.name)
+        << "\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+      for (const FrameMeta& m : metas) {
+        const std::string fn = frame_name(m.index);
+        std::snprintf(tbuf, sizeof tbuf, "%.17g", m.time);
+        const std::string vertices =
+            mesh.moves() ? h5 + ":/frames/" + fn + "/mesh_" + xml_escape(mesh.name) : base + "/vertices";
+        x << "      <Grid Name=\"" << xml_escape(mesh.name) << "_" << fn << "\" GridType=\"Uniform\">\n"
+          << "        <Time Value=\"" << tbuf << "\"/>\n"
+          << "        <Topology TopologyType=\"Triangle\" NumberOfElements=\"" << mesh.data.triangles.size()
+          << "\">\n          <DataItem Dimensions=\"" << mesh.data.triangles.size()
+          << " 3\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << base
+          << "/triangles</DataItem>\n        </Topology>\n"
+          << "        <Geometry GeometryType=\"XYZ\">\n          <DataItem Dimensions=\""
+          << mesh.data.vertices.size() << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">"
+          << vertices << "</DataItem>\n        </Geometry>\n      </Grid>\n";
+      }
+      x << "    </Grid>\n";
+    }
+    x << "  </Domain>\n</Xdmf>\n";
     return x.str();
   }
 
@@ -787,6 +842,12 @@ void ResultWriter::write_frame(FrameData frame) {
 }
 
 void ResultWriter::write_series(SeriesRow row) {
+  if (row.wall_torque.empty())
+    row.wall_torque.assign(3 * impl_->info.wall_names.size(), std::numeric_limits<double>::quiet_NaN());
+  if (row.wall_torque.size() != 3 * impl_->info.wall_names.size())
+    throw std::invalid_argument(impl_->where() + ": series row has " +
+                                std::to_string(row.wall_torque.size()) +
+                                " wall torque values, expected 3 per wall");
   if (row.wall_force.size() != 3 * impl_->info.wall_names.size())
     throw std::invalid_argument(impl_->where() + ": series row has " + std::to_string(row.wall_force.size()) +
                                 " wall force values, expected 3 per wall (" +

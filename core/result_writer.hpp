@@ -14,7 +14,8 @@
 //                    group (N, int32). position, radius and id are always written, the others if asked.
 //   /series/         1-D extendible datasets time, step (int64), kinetic_energy, rotational_energy,
 //                    contacts (int64), one per analysis key (created on first appearance, earlier rows
-//                    NaN; a row without the key also reads NaN), and wall_force/<wall> (T x 3).
+//                    NaN; a row without the key also reads NaN), wall_force/<wall> (T x 3) and
+//                    wall_torque/<wall> (T x 3: moment about the wall's point; NaN when not given).
 // <stem>.xdmf beside it: a temporal collection of Polyvertex grids naming only committed frames.
 //
 // Kill safety: the visible <stem>.h5 is never opened for writing. Each batch of queued work is applied to

@@ -131,6 +131,7 @@ SeriesRow series_row(const Observables& o) {
   r.rotational_energy = o.rotational_energy;
   r.contacts = o.contacts;
   r.wall_force = o.wall_force;
+  r.wall_torque = o.wall_torque;
   return r;
 }
 
@@ -243,6 +244,9 @@ int run_command(const std::vector<std::string>& args) {
   info.scaling_law = p.scene.groups.empty() ? "none" : p.scene.groups.front().coarse_grain.law;
   info.scale_factor = p.scene.groups.empty() ? 1.0 : p.scene.groups.front().coarse_grain.factor;
   info.wall_names = p.config.wall_names;
+  for (const Wall& w : p.config.walls)
+    if (w.type == Wall::Mesh)
+      info.meshes.push_back({p.config.wall_names[w.owner], p.config.meshes[w.mesh], w});
   std::unique_ptr<ResultWriter> writer_ptr;
   try {
     writer_ptr = std::make_unique<ResultWriter>(out, info, p.scene.output.fields);
@@ -525,10 +529,11 @@ int check_command(const std::vector<std::string>& args) {
     std::printf("walls        %zu named, %zu parts\n", p.config.wall_names.size(), p.config.walls.size());
     for (const WallSpec& w : p.scene.walls)
       if (w.mesh)
-        std::printf("  mesh %-12s %zu triangles, %zu vertices, bounding box [%.4g, %.4g, %.4g] - [%.4g, %.4g, "
-                    "%.4g] m (%s)\n",
-                    w.name.c_str(), w.mesh->triangles.size(), w.mesh->vertices.size(), w.mesh->lo[0],
-                    w.mesh->lo[1], w.mesh->lo[2], w.mesh->hi[0], w.mesh->hi[1], w.mesh->hi[2], w.file.c_str());
+        std::printf(
+            "  mesh %-12s %zu triangles, %zu vertices, bounding box [%.4g, %.4g, %.4g] - [%.4g, %.4g, "
+            "%.4g] m (%s)\n",
+            w.name.c_str(), w.mesh->triangles.size(), w.mesh->vertices.size(), w.mesh->lo[0], w.mesh->lo[1],
+            w.mesh->lo[2], w.mesh->hi[0], w.mesh->hi[1], w.mesh->hi[2], w.file.c_str());
     std::printf("skin         %.4g m\n", p.config.skin);
     // Measured, not estimated: the engine as `run` builds it (store, first neighbour list with its history,
     // cells), plus the host copy each output frame takes while the writer runs (FrameData: id, position,

@@ -135,7 +135,7 @@ RunOutput read_run_output(const std::string& path) {
   o.threads = static_cast<int>(read_attr(file, "threads", 1));
   H5 series(H5Gopen2(file, "series", H5P_DEFAULT), H5Gclose);
   const std::set<std::string> builtin{"time",     "step",      "kinetic_energy", "rotational_energy",
-                                      "contacts", "wall_force"};
+                                      "contacts", "wall_force", "wall_torque"};
   for (const auto& name : links(series)) {
     if (builtin.count(name)) continue;
     const auto v = read_doubles(series, name);

@@ -173,11 +173,14 @@ struct ContactForces {
       for (int w = 0; w < nwalls; ++w) {
         const PlacedWall& wall = walls(w);
         ForceReal* const wh = wall_history.extent(1) > 0 ? &wall_history(i, wall.history_offset) : nullptr;
-        Vec3 fw;
+        Vec3 fw, mw; // the force on the particle; the moment of its reaction about the part's base
         if (wall.type == Wall::Mesh) {
-          contacts += mesh_terms(i, w, wall, wh, xi, vi, wi, ri, mi, scale_i, mat_i, fw, t);
+          contacts += mesh_terms(i, w, wall, wh, xi, vi, wi, ri, mi, scale_i, mat_i, fw, mw, t);
           f += fw;
-          if (record) store3(wall_force, i * nwalls + w, fw);
+          if (record) {
+            store3(wall_force, 2 * (i * nwalls + w), fw);
+            store3(wall_force, 2 * (i * nwalls + w) + 1, mw);
+          }
           continue;
         }
         const WallContact wc = wall_contact(wall, xi, ri);
@@ -194,17 +197,21 @@ struct ContactForces {
           f += cf.force;
           t += cf.torque;
           contacts += cf.active ? 1 : 0;
+          if (record) mw = cross(xi + (ri - wc.overlap) * wc.normal - wall.base, -cf.force);
         }
-        if (record) store3(wall_force, i * nwalls + w, fw);
+        if (record) {
+          store3(wall_force, 2 * (i * nwalls + w), fw);
+          store3(wall_force, 2 * (i * nwalls + w) + 1, mw);
+        }
       }
       return contacts;
     }
 
-    // Particle i against mesh part w (kernels/mesh_walls.hpp): its force into fw, torque added to t;
-    // returns the contacts.
+    // Particle i against mesh part w (kernels/mesh_walls.hpp): its force into fw, the moment of the
+    // reaction on the mesh about its base into mw, its torque added to t; returns the contacts.
     KOKKOS_INLINE_FUNCTION int mesh_terms(int i, int w, const PlacedWall& wall, ForceReal* slots,
                                           const Vec3& xi, const Vec3& vi, const Vec3& wi, Real ri, Real mi,
-                                          Real scale_i, int mat_i, Vec3& fw, Vec3& t) const {
+                                          Real scale_i, int mat_i, Vec3& fw, Vec3& mw, Vec3& t) const {
       constexpr int S = MeshSlots::kSlots, W = MeshSlots::kHeader + H;
       // The nearest point on each of this part's candidates within reach, offered to the filter faces
       // first (a second walk over the candidates for edges and vertices: no cap on how many are near).
@@ -286,6 +293,7 @@ struct ContactForces {
             surface(wall, (1 / dist) * d, ri - dist, surface_velocity, row ? row + MeshSlots::kHeader : spare,
                     vi, wi, ri, mi, scale_i, mat_i);
         fw += cf.force;
+        mw += cross(rel, -cf.force);
         t += cf.torque;
         contacts += cf.active ? 1 : 0;
       }
@@ -332,8 +340,8 @@ struct ContactForces {
     ParamTable pair_params, wall_params;                              // materials x materials
     Kokkos::View<PlacedWall*, Mem> walls;                             // placed at this step's time
     Kokkos::View<ForceReal**, Kokkos::LayoutRight, Mem> wall_history; // N x the parts' history widths
-    // Extent > 0: the force each particle feels from each wall part is stored there too (N x wall parts,
-    // for the wall reductions).
+    // Extent > 0: per particle and wall part (row 2 (i x parts + w)) the force the particle feels from the
+    // part, and (the next row) the moment of the reaction on the part about its base, for the reductions.
     Kokkos::View<Real* [3], Mem> wall_force;
     MeshGeometry<Mem> mesh; // the mesh parts' triangles where they are now, and each particle's candidates
     Real dt = 0;

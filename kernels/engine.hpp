@@ -25,7 +25,8 @@ struct Observables {
   long contacts = 0;
   double max_speed = 0;
   double max_overlap_fraction = 0; // largest overlap / smaller radius
-  std::vector<double> wall_force;  // 3 per named wall
+  std::vector<double> wall_force;  // 3 per named wall: the particles' force on it
+  std::vector<double> wall_torque; // 3 per named wall: their moment on it about its point (its axis's)
 };
 
 // Thrown when the state stops being physical; what() is the diagnosis (step, particle, neighbours, cause).

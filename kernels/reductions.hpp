@@ -52,17 +52,24 @@ SystemSums system_sums(const ParticleStore<typename ExecSpace::memory_space>& p,
   return s;
 }
 
-// Force on each named wall: minus the sum of the forces the particles feel from its parts.
+// Force and moment on each named wall, from the force pass's record (2 rows per particle and part: the
+// force the particle feels, the moment of the reaction on the part about the part's base): the force is
+// minus the sum of the particles' forces, the moment the sum of the moments.
+struct WallLoads {
+  std::vector<Real> force, torque; // 3 per named wall
+};
 template <class ExecSpace>
-std::vector<Real> wall_forces(const Kokkos::View<Real* [3], typename ExecSpace::memory_space>& per_particle,
-                              const std::vector<int>& owner, int num_named, int n) {
-  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), per_particle);
+WallLoads wall_loads(const Kokkos::View<Real* [3], typename ExecSpace::memory_space>& record,
+                     const std::vector<int>& owner, int num_named, int n) {
+  auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), record);
   const int parts = static_cast<int>(owner.size());
-  std::vector<Real> out(3 * num_named, 0.0);
+  WallLoads out{std::vector<Real>(3 * num_named, 0.0), std::vector<Real>(3 * num_named, 0.0)};
   for (int i = 0; i < n; ++i)
     for (int w = 0; w < parts; ++w)
-      for (int a = 0; a < 3; ++a)
-        out[3 * owner[w] + a] -= f(i * parts + w, a);
+      for (int a = 0; a < 3; ++a) {
+        out.force[3 * owner[w] + a] -= f(2 * (i * parts + w), a);
+        out.torque[3 * owner[w] + a] += f(2 * (i * parts + w) + 1, a);
+      }
   return out;
 }
 

@@ -112,8 +112,10 @@ public:
       std::vector<int> owner;
       for (const Wall& w : cfg_.walls)
         owner.push_back(w.owner);
-      o.wall_force =
-          wall_forces<ExecSpace>(wall_force_record_, owner, static_cast<int>(cfg_.wall_names.size()), n_);
+      WallLoads loads =
+          wall_loads<ExecSpace>(wall_force_record_, owner, static_cast<int>(cfg_.wall_names.size()), n_);
+      o.wall_force = std::move(loads.force);
+      o.wall_torque = std::move(loads.torque);
     }
     return o;
   }
@@ -166,7 +168,7 @@ private:
   int history_width_ = 0;
   MeshWalls<ExecSpace> meshes_;                // the mesh parts' triangles and each particle's candidates
   Kokkos::View<double*, Mem> reorder_scratch_; // one field at a time during a reorder (kernels/reorder.hpp)
-  Kokkos::View<Real* [3], Mem> wall_force_record_; // N x wall parts, written on recording steps
+  Kokkos::View<Real* [3], Mem> wall_force_record_; // 2 N x wall parts (force, moment), on recording steps
   NeighborList<ExecSpace, Law> nl_;
   ForceBlocks<ExecSpace> blocks_; // the host force pass's schedule, made with each list
   CellBins<ExecSpace> bins_;

@@ -91,7 +91,7 @@ void Simulation<Law, ExecSpace>::allocate_per_particle_scratch() {
       "cgdem::kernels::iota", Kokkos::RangePolicy<ExecSpace>(0, n_), KOKKOS_LAMBDA(int i) { id(i) = i; });
   if (!cfg_.walls.empty())
     wall_force_record_ = Kokkos::View<Real* [3], Mem>("cgdem::kernels::wall_force_record",
-                                                      std::size_t(n_) * cfg_.walls.size());
+                                                      2 * std::size_t(n_) * cfg_.walls.size());
 }
 
 template <class Law, class ExecSpace>
@@ -487,7 +487,7 @@ void Simulation<Law, ExecSpace>::exchange(const std::vector<std::int64_t>& remov
       compact(c.reals.at(name), width);
   });
   compact(c.reals.at("wall_history"), std::size_t(history_width_));
-  if (parts > 0) compact(c.reals.at("wall_force_record"), parts * 3);
+  if (parts > 0) compact(c.reals.at("wall_force_record"), parts * 6);
   // The added particles' own fields.
   for (std::size_t k = 0; k < add.size(); ++k) {
     const std::size_t i = std::size_t(kept) + k;

@@ -283,6 +283,26 @@ TEST_F(CliTest, MeshWallFromStlHoldsTheBedAndBadMeshesAreRefused) {
     ASSERT_GE(force.size(), 3u);
     EXPECT_NEAR(force.back(), -weight, 0.1 * weight);
   }
+  // ParaView: the XDMF draws the tray's triangles beside the particles; a moving tray (lifted at 1 mm/s)
+  // has its vertices stored at each frame.
+  std::string xdmf = slurp(dir / "tray.xdmf");
+  EXPECT_NE(xdmf.find("<Grid Name=\"mesh_tray\""), std::string::npos) << xdmf;
+  EXPECT_NE(xdmf.find("TopologyType=\"Triangle\" NumberOfElements=\"2\""), std::string::npos);
+  EXPECT_NE(xdmf.find("tray.h5:/meshes/tray/vertices"), std::string::npos);
+  r = cgdem("run scene.yaml --quiet --threads 1 --set time.end=0.1 --set 'walls.0.motion={velocity: [0, 0, "
+            "0.001]}'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  xdmf = slurp(dir / "tray.xdmf");
+  EXPECT_NE(xdmf.find("tray.h5:/frames/000002/mesh_tray"), std::string::npos) << xdmf;
+  {
+    hid_t f = H5Fopen((dir / "tray.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    const auto v = read_doubles(f, "frames/000002/mesh_tray"); // t = 0.1 s: lifted by 0.1 mm
+    ASSERT_EQ(v.size(), 12u);
+    for (std::size_t k = 2; k < v.size(); k += 3)
+      EXPECT_NEAR(v[k], 1e-4, 1e-12);
+    EXPECT_EQ(read_doubles(f, "meshes/tray/triangles").size(), 6u);
+    H5Fclose(f);
+  }
   // Broken meshes: unreadable, a degenerate triangle, outside the domain.
   write("garbage.stl", "this is not a mesh\n");
   std::string degenerate = tray_stl;
@@ -301,4 +321,46 @@ TEST_F(CliTest, MeshWallFromStlHoldsTheBedAndBadMeshesAreRefused) {
     EXPECT_NE(r.err.find("walls.0.file"), std::string::npos) << b.set << "\n" << r.err;
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << b.set << "\n" << r.err;
   }
+}
+
+// A paddle of two triangles turning about z at 100 rad/s strikes a bead: the moment of the bead's force on
+// the paddle about the axis (/series/wall_torque), integrated over the steps as the velocity-Verlet kicks
+// integrate it, is minus the bead's change of angular momentum about the axis (orbit and spin).
+TEST(MeshImpact, PaddleTorqueMatchesTheBeadsAngularMomentum) {
+  const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.5, 0.3);
+  Scene s = basic_scene({m}, "hertz", "mindlin");
+  TriangleMeshData paddle;
+  paddle.vertices = {{0.001, 0, -0.005}, {0.01, 0, -0.005}, {0.01, 0, 0.005}, {0.001, 0, 0.005}};
+  paddle.triangles = {{0, 1, 2}, {0, 2, 3}};
+  paddle.lo = {0.001, 0, -0.005};
+  paddle.hi = {0.01, 0, 0.005};
+  WallSpec w = mesh_wall(paddle);
+  w.name = "paddle";
+  w.material = m.name;
+  w.axis = {0, 0, 1};
+  w.angular_velocity = 100;
+  s.walls.push_back(w);
+  ParticleSet p;
+  add_particle(p, {0.005, 0.0008, 0.0002}, {0, 0, 0}, 5e-4, 2500);
+  const double dt = 2e-7;
+  auto engine = make(s, p, dt);
+  const double mass = 2500 * 4.0 / 3 * M_PI * std::pow(5e-4, 3), inertia = 0.4 * mass * 25e-8;
+  auto angular_momentum = [&] {
+    const FrameData f = engine->frame();
+    return mass * (f.position[0] * f.velocity[1] - f.position[1] * f.velocity[0]) +
+           inertia * f.angular_velocity[2];
+  };
+  const double l0 = angular_momentum();
+  double impulse = 0, previous = engine->observe().wall_torque.at(2), peak = 0;
+  for (int k = 0; k < 8000; ++k) {
+    engine->advance(1);
+    const double now = engine->observe().wall_torque.at(2);
+    impulse += 0.5 * dt * (previous + now);
+    previous = now;
+    peak = std::max(peak, std::fabs(now));
+  }
+  const double gained = angular_momentum() - l0;
+  ASSERT_GT(peak, 0);   // the paddle struck the bead
+  ASSERT_GT(gained, 0); // and swept it along its rotation
+  EXPECT_NEAR(gained, -impulse, 1e-3 * gained);
 }
