@@ -134,7 +134,7 @@ RunOutput read_run_output(const std::string& path) {
   o.time_step = read_attr(file, "time_step", 0);
   o.threads = static_cast<int>(read_attr(file, "threads", 1));
   H5 series(H5Gopen2(file, "series", H5P_DEFAULT), H5Gclose);
-  const std::set<std::string> builtin{"time",     "step",      "kinetic_energy", "rotational_energy",
+  const std::set<std::string> builtin{"time",     "step",       "kinetic_energy", "rotational_energy",
                                       "contacts", "wall_force", "wall_torque"};
   for (const auto& name : links(series)) {
     if (builtin.count(name)) continue;
