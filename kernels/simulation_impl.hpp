@@ -410,8 +410,22 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   for (double r : need(c.reals, "radius"))
     max_radius_ = std::max<Real>(max_radius_, r);
   detail::from_vector(wall_history_, need(c.reals, "wall_history"), "wall_history");
-  if (!cfg_.walls.empty())
-    detail::from_vector(wall_force_record_, need(c.reals, "wall_force_record"), "wall_force_record");
+  if (!cfg_.walls.empty()) {
+    // Checkpoints written before the record held the moments too (3 values per particle and part, the
+    // forces alone): their forces go into the force rows, the moments start at zero (they are the last
+    // evaluation's, written to the series only, never integrated).
+    const auto& record = need(c.reals, "wall_force_record");
+    const std::size_t parts = cfg_.walls.size();
+    if (record.size() == std::size_t(n_) * parts * 3 && record.size() * 2 == wall_force_record_.span()) {
+      std::vector<double> both(2 * record.size(), 0.0);
+      for (std::size_t e = 0; e < std::size_t(n_) * parts; ++e)
+        for (int a = 0; a < 3; ++a)
+          both[6 * e + a] = record[3 * e + a];
+      detail::from_vector(wall_force_record_, both, "wall_force_record");
+    } else {
+      detail::from_vector(wall_force_record_, record, "wall_force_record");
+    }
+  }
   // The neighbour list exactly as it was: same slots, same order, same history.
   const auto& offs = need(c.ints, "nl_offsets");
   const auto& neigh = need(c.ints, "nl_neighbors");
