@@ -46,11 +46,13 @@ void add_normal_laws(std::vector<PhysicsEntry>& registry) {
 }
 
 // The laws of Hu et al. 2022's validation, which direct force scaling wraps: Hertz-Mindlin, JKR-Mindlin
-// and Hertz with capillary bridges.
-using DirectlyScaledLaws =
-    models::TypeList<models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>,
-                     models::ContactLaw<models::JkrFull, models::NoAdhesion, models::MindlinTangential>,
-                     models::ContactLaw<models::HertzTsuji, models::CapillaryBridge, models::NoFriction>>;
+// and Hertz with capillary bridges, frictionless (the compression studies) and with Mindlin friction (the
+// vertical mixer, Table 6: sliding friction 0.3).
+using DirectlyScaledLaws = models::TypeList<
+    models::ContactLaw<models::HertzTsuji, models::NoAdhesion, models::MindlinTangential>,
+    models::ContactLaw<models::JkrFull, models::NoAdhesion, models::MindlinTangential>,
+    models::ContactLaw<models::HertzTsuji, models::CapillaryBridge, models::NoFriction>,
+    models::ContactLaw<models::HertzTsuji, models::CapillaryBridge, models::MindlinTangential>>;
 
 template <class Method>
 void add_directly_scaled_laws(std::vector<PhysicsEntry>& registry) {

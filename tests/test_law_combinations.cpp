@@ -129,8 +129,9 @@ TEST(LawCombinations, EverySensibleCombinationIsCompiledAndEveryOtherRefusedWith
   // hertz x {none, dmt, capillary}, linear/jkr/eepa x {none, capillary}; without friction only no rolling.
   EXPECT_EQ(sensible, 9 * 4);
   EXPECT_EQ(refused, 4 * 3 * 2 * 3 - 36);
-  // The rest of the registry: the direct scaling methods around Hu et al.'s three laws.
-  EXPECT_EQ(compiled.size(), std::size_t(sensible + 4 * 3));
+  // The rest of the registry: the four direct scaling methods around Hu et al.'s four laws
+  // (DirectlyScaledLaws in drivers/physics_factory.hpp).
+  EXPECT_EQ(compiled.size(), std::size_t(sensible + 4 * 4));
 }
 
 TEST(LawCombinations, EveryCompiledLawRunsATwoParticleImpact) {

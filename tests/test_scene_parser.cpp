@@ -382,26 +382,29 @@ TEST(SceneParser, RelativeParticleFileIsResolvedAgainstTheSceneDirectory) {
   fs::remove_all(dir);
 }
 
-// Every example scene parses, generates its particles, and passes the particle check.
+// Every example scene and every validation case of sweeps/ parses, generates its particles, and passes
+// the particle check.
 TEST(SceneParser, ExampleScenesAreValid) {
   namespace fs = std::filesystem;
-  const fs::path dir = fs::path(CGDEM_SOURCE_DIR) / "scenes";
-  ASSERT_TRUE(fs::is_directory(dir)) << dir;
   int n = 0;
-  for (const auto& entry : fs::directory_iterator(dir)) {
-    if (entry.path().extension() != ".yaml") continue;
-    SCOPED_TRACE(entry.path().string());
-    ++n;
-    try {
-      const Scene s = parse_scene_file(entry.path().string(), {});
-      const ParticleSet ps = generate_particles(s);
-      EXPECT_GT(ps.size(), 0u);
-      check_particles(s, ps);
-    } catch (const SceneError& e) {
-      ADD_FAILURE() << e.what();
+  for (const char* sub : {"scenes", "sweeps"}) {
+    const fs::path dir = fs::path(CGDEM_SOURCE_DIR) / sub;
+    ASSERT_TRUE(fs::is_directory(dir)) << dir;
+    for (const auto& entry : fs::directory_iterator(dir)) {
+      if (entry.path().extension() != ".yaml") continue;
+      SCOPED_TRACE(entry.path().string());
+      ++n;
+      try {
+        const Scene s = parse_scene_file(entry.path().string(), {});
+        const ParticleSet ps = generate_particles(s);
+        EXPECT_GT(ps.size(), 0u);
+        check_particles(s, ps);
+      } catch (const SceneError& e) {
+        ADD_FAILURE() << e.what();
+      }
     }
   }
-  EXPECT_GE(n, 6);
+  EXPECT_GE(n, 15);
 }
 
 // Hu's simplified JKR is the full JKR law with contact loss: the old adhesion name points there.
