@@ -28,13 +28,16 @@ except ImportError as e:  # the interpreter first on PATH may lack them; Debian'
 
 def pooled_speeds(paths, t_from):
     """Speeds of every frame at t >= t_from in the files, pooled; the frame count and particle count."""
-    speeds, frames, particles = [], 0, 0
+    speeds, frames, particles, times = [], 0, 0, []
     for path in paths:
         with h5py.File(path, "r") as f:
             for name in sorted(f["frames"].keys()):
                 g = f["frames"][name]
-                if float(g.attrs["time"]) < t_from - 1e-12:
+                t = float(g.attrs["time"])
+                # A run's closing frame can repeat the last output frame a step later: pool it once.
+                if t < t_from - 1e-12 or any(abs(t - u) < 1e-4 for u in times):
                     continue
+                times.append(t)
                 v = g["velocity"][()]
                 speeds.append(np.sqrt((v * v).sum(axis=1)))
                 frames += 1
