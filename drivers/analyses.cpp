@@ -169,6 +169,11 @@ public:
     floor_ = p.num("floor", 0);
     bin_width_ = p.num("bin_width", 0);
     sectors_ = static_cast<int>(p.num("sectors", 8));
+    const std::string stat = p.str("sector_statistic", "mean");
+    if (stat != "mean" && stat != "median")
+      p.fail("sector_statistic", "sector_statistic must be mean or median, got '" + stat + "'",
+             "e.g. sector_statistic: median (robust to slumped sectors and loose skirts)");
+    statistic_ = stat == "median" ? SectorStatistic::median : SectorStatistic::mean;
     const auto flank = p.list("flank", 2, {0.2, 0.8});
     lo_ = flank[0];
     hi_ = flank[1];
@@ -194,7 +199,7 @@ public:
     if (!fixed_center_) cx = sx / n, cy = sy / n;
     if (!floor_given_) floor = zmin;
     const double w = bin_width_ > 0 ? bin_width_ : 4 * max_radius(f);
-    const PileFit fit = pile_angle(f, use, cx, cy, floor, w, sectors_, lo_, hi_);
+    const PileFit fit = pile_angle(f, use, cx, cy, floor, w, sectors_, lo_, hi_, statistic_);
     out[name()] = fit.angle_deg;
     out[name() + "_stderr"] = fit.angle_stderr_deg;
     out[name() + "_height"] = fit.height;
@@ -215,6 +220,7 @@ private:
   bool fixed_center_ = false, floor_given_ = false;
   double cx_ = 0, cy_ = 0, floor_ = 0, bin_width_ = 0, lo_ = 0.2, hi_ = 0.8;
   int sectors_ = 8, group_ = -1;
+  SectorStatistic statistic_ = SectorStatistic::mean;
 };
 
 // Stress on a plane wall and strain from its prescribed motion.
@@ -757,7 +763,7 @@ PlaneFit fit_plane(const std::vector<std::array<double, 3>>& points) {
 }
 
 PileFit pile_angle(const FrameData& f, const std::vector<char>& use, double cx, double cy, double floor,
-                   double bin_width, int sectors, double lo_frac, double hi_frac) {
+                   double bin_width, int sectors, double lo_frac, double hi_frac, SectorStatistic statistic) {
   PileFit fit;
   const double lowest = -std::numeric_limits<double>::max();
   std::vector<std::vector<double>> top; // [radial bin][sector]
@@ -776,13 +782,23 @@ PileFit pile_angle(const FrameData& f, const std::vector<char>& use, double cx, 
   if (highest == lowest) return fit;
   fit.height = highest - floor;
   std::vector<double> r, h;
+  std::vector<double> tops;
   for (std::size_t b = 0; b < top.size(); ++b) {
-    double sum = 0;
-    int count = 0;
+    tops.clear();
     for (double t : top[b])
-      if (t > lowest) sum += t, ++count;
-    if (count == 0) continue;
-    const double s = sum / count - floor;
+      if (t > lowest) tops.push_back(t);
+    if (tops.empty()) continue;
+    double surface = 0;
+    if (statistic == SectorStatistic::median) {
+      std::sort(tops.begin(), tops.end());
+      const std::size_t m = tops.size() / 2;
+      surface = tops.size() % 2 == 1 ? tops[m] : 0.5 * (tops[m - 1] + tops[m]);
+    } else {
+      for (double t : tops)
+        surface += t;
+      surface /= static_cast<double>(tops.size());
+    }
+    const double s = surface - floor;
     if (s < lo_frac * fit.height || s > hi_frac * fit.height) continue;
     r.push_back((b + 0.5) * bin_width);
     h.push_back(s);

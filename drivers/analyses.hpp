@@ -119,13 +119,17 @@ struct PileFit {
       std::numeric_limits<double>::quiet_NaN(); // the slope's standard error, as an angle
   std::size_t bins_used = 0;
 };
+// How a radial bin's sectors make its surface height: their mean, or their median, which a few slumped
+// sectors or a loose skirt (a rough pile of few large particles) do not drag down.
+enum class SectorStatistic { mean, median };
 // Pile on a floor at z = floor, around the vertical axis through (cx, cy). Particles `use` (all when empty)
 // are binned radially (width bin_width) and azimuthally (sectors); the surface height of a radial bin is the
-// mean over its non-empty sectors of the highest particle top (z + r). height = the highest top - floor.
-// The flank is the radial bins whose surface height is within [lo_frac, hi_frac] x height; the fit of
-// surface height against the bin's radius there gives the angle atan(-slope).
+// mean (or median) over its non-empty sectors of the highest particle top (z + r). height = the highest
+// top - floor. The flank is the radial bins whose surface height is within [lo_frac, hi_frac] x height; the
+// fit of surface height against the bin's radius there gives the angle atan(-slope).
 PileFit pile_angle(const FrameData& f, const std::vector<char>& use, double cx, double cy, double floor,
-                   double bin_width, int sectors, double lo_frac, double hi_frac);
+                   double bin_width, int sectors, double lo_frac, double hi_frac,
+                   SectorStatistic statistic = SectorStatistic::mean);
 
 struct DrumFit {
   double angle_deg = 0, rms = 0;

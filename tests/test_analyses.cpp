@@ -69,6 +69,35 @@ TEST(Analyses, ConeOfKnownAngle) {
   }
 }
 
+// A pile whose 8 sectors are not alike, as a rough pile of few large particles is: two sectors slumped to a
+// 20-degree slope (ending where the others' 35-degree flank ends). The mean over the sectors reads the
+// average of the slopes' tangents (about 31.6 degrees); the median reads the six alike (35 degrees).
+TEST(Analyses, SectorMedianIgnoresSlumpedSectors) {
+  const double h = 0.01, r = 0.0002, foot = h / std::tan(35 * kPi / 180);
+  const FrameData steep = cone(35, h, r, 5), slumped = cone(20, h, r, 6);
+  const auto sector = [](double x, double y) {
+    return static_cast<int>((std::atan2(y, x) + kPi) / (2 * kPi) * 8);
+  };
+  FrameData f;
+  for (const FrameData* c : {&steep, &slumped})
+    for (std::size_t i = 0; i < c->size(); ++i) {
+      const double x = c->position[3 * i], y = c->position[3 * i + 1];
+      const bool low = sector(x, y) < 2;
+      if (low != (c == &slumped) || std::hypot(x, y) > foot) continue;
+      add(f, x, y, c->position[3 * i + 2], r);
+    }
+  const PileFit mean = pile_angle(f, {}, 0, 0, 0, 0.0008, 8, 0.2, 0.8, SectorStatistic::mean);
+  const PileFit median = pile_angle(f, {}, 0, 0, 0, 0.0008, 8, 0.2, 0.8, SectorStatistic::median);
+  EXPECT_NEAR(median.angle_deg, 35, 1.0);
+  const double tangents = (6 * std::tan(35 * kPi / 180) + 2 * std::tan(20 * kPi / 180)) / 8;
+  EXPECT_NEAR(mean.angle_deg, std::atan(tangents) * 180 / kPi, 1.0);
+  EXPECT_GT(median.angle_deg - mean.angle_deg, 2.0);
+  // The two agree on a cone whose sectors are alike.
+  const FrameData c = cone(30, h, r, 7);
+  EXPECT_NEAR(pile_angle(c, {}, 0, 0, 0, 0.0008, 8, 0.2, 0.8, SectorStatistic::median).angle_deg,
+              pile_angle(c, {}, 0, 0, 0, 0.0008, 8, 0.2, 0.8, SectorStatistic::mean).angle_deg, 0.5);
+}
+
 TEST(Analyses, AngleOfReposeFromScene) {
   Scene s = parse_scene_text(R"(domain: {lo: [-0.05, -0.05, 0], hi: [0.05, 0.05, 0.05]}
 materials: {m: {density: 1000, youngs_modulus: 1e6}}
@@ -92,6 +121,14 @@ analyses:
   EXPECT_NEAR(out.at("pile"), 30, 1.0);
   EXPECT_NEAR(out.at("pile_height"), 0.01, 0.0003);
   EXPECT_NEAR(out.at("pile_foot_radius"), 0.01 / std::tan(kPi / 6), 0.001);
+  // sector_statistic is read (median on a cone of alike sectors: the same angle), and checked.
+  s.analyses[0].params["sector_statistic"] = "median";
+  auto median = make_analyses(s);
+  std::map<std::string, double> out_median;
+  run_analyses(median, AnalysisInput{f, 0.0, names, forces}, out_median);
+  EXPECT_NEAR(out_median.at("pile"), 30, 1.0);
+  s.analyses[0].params["sector_statistic"] = "mode";
+  EXPECT_THROW(make_analyses(s), SceneError);
 }
 
 TEST(Analyses, DistanceOfKnownPair) {
