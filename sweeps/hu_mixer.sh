@@ -10,7 +10,8 @@
 #       [--build build] [--out sweeps/results/hu_mixer]
 #
 # --adhesion capillary: the values are surface tensions sigma (N/m), Hu 4.2.1; jkr: surface energies gamma
-# (J/m^2) under Hu's simplified JKR (normal: jkr, jkr_separation: contact_loss), Hu 4.2.2. --l 1 runs the
+# (J/m^2) under Hu's simplified JKR (normal: jkr, jkr_separation: contact_loss), Hu 4.2.2; sigma 0 runs the
+# dry powder (Hertz-Mindlin, Hu's sigma = 0 curves). --l 1 runs the
 # original particles (law none). Outputs: OUT/runs/<method>_l<l>_<adhesion><value>/run.h5 and log.txt,
 # OUT/speed_pdf_<adhesion><value>.png and .csv (every run of that value found in OUT/runs, the
 # original's as the reference when present).
@@ -51,7 +52,9 @@ for value in ${values//,/ }; do
     args=(--set "groups.0.count=$n" --set "time.end=$end" --set "output.every=0.01" --threads "$threads"
           --checkpoint-every 0.05 --out "$run/run.h5")
     [ "$method" != none ] && args+=(--set "groups.0.coarse_grain={law: $method, factor: $l}")
-    if [ "$adhesion" = capillary ]; then
+    if [ "$adhesion" = capillary ] && [ "$(/usr/bin/python3 -c "print(float('$value') == 0)")" = True ]; then
+      args+=(--set "contact={normal: hertz, tangential: mindlin, wall_adhesion: false}") # Hu's sigma = 0: dry
+    elif [ "$adhesion" = capillary ]; then
       args+=(--set "materials.powder.capillary.surface_tension=$value")
     else
       args+=(--set "materials.powder={density: 1000, youngs_modulus: 1.0e8, poisson_ratio: 0.3, restitution: 0.1, friction: 0.3, surface_energy: $value}"
