@@ -203,6 +203,34 @@ double total_energy(const EngineConfig& config, Engine& engine) {
   return meter.measure(engine, true);
 }
 
+SlopeFit fit_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  SlopeFit f;
+  const std::size_t n = x.size();
+  if (n < 2 || y.size() != n) return f;
+  double mx = 0, my = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    mx += x[k];
+    my += y[k];
+  }
+  mx /= n;
+  my /= n;
+  double sxx = 0, sxy = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    sxx += (x[k] - mx) * (x[k] - mx);
+    sxy += (x[k] - mx) * (y[k] - my);
+  }
+  if (!(sxx > 0)) return f;
+  f.slope = sxy / sxx;
+  if (n < 3) return f;
+  double ss = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double r = y[k] - (my + f.slope * (x[k] - mx));
+    ss += r * r;
+  }
+  f.std_error = std::sqrt(ss / static_cast<double>(n - 2) / sxx);
+  return f;
+}
+
 StabilityProbe stability_probe(const Scene& scene, const ParticleSet& particles, double dt,
                                const StabilitySettings& settings, const std::string& variant) {
   TimeStepEstimate est = estimate_time_step(scene, particles);
@@ -223,8 +251,10 @@ StabilityProbe stability_probe(const Scene& scene, const ParticleSet& particles,
   std::vector<double> t{0}, e{0};
   const int samples = std::max(2, settings.samples);
   try {
+    const long steps = settings.probe_time > 0 ? static_cast<long>(std::ceil(settings.probe_time / dt - 1e-9))
+                                               : settings.steps;
     for (int k = 1; k <= samples; ++k) {
-      const long target = settings.steps * k / samples;
+      const long target = steps * k / samples;
       engine->advance(target - engine->step());
       const double en = meter.measure(*engine, false);
       t.push_back(engine->time());
@@ -240,23 +270,22 @@ StabilityProbe stability_probe(const Scene& scene, const ParticleSet& particles,
   p.steps = engine->step();
   for (double v : e)
     p.max_change = std::max(p.max_change, std::fabs(v));
-  // Least-squares slope of E/E0 - 1 against time.
-  const double n = static_cast<double>(t.size());
-  double st = 0, se = 0, stt = 0, ste = 0;
-  for (std::size_t k = 0; k < t.size(); ++k) {
-    st += t[k];
-    se += e[k];
-    stt += t[k] * t[k];
-    ste += t[k] * e[k];
+  // Least-squares slope of E/E0 - 1 against time, per characteristic time.
+  const SlopeFit fit = fit_slope(t, e);
+  p.growth = fit.slope * tau;
+  p.growth_error = fit.std_error * tau;
+  if (p.blew_up) {
+    p.growth = std::numeric_limits<double>::infinity();
+    p.growth_error = 0;
   }
-  const double den = n * stt - st * st;
-  p.growth = den > 0 ? (n * ste - st * se) / den * tau : 0;
-  if (p.blew_up) p.growth = std::numeric_limits<double>::infinity();
   p.stable = !p.blew_up && (!p.growth_checked || p.growth <= settings.growth_threshold);
   if (settings.verbose)
-    std::fprintf(stderr, "  %-12s dt %.4g s (%.4f T_R): %s, energy growth %.3g per T_R, max |E/E0-1| %.3g\n",
-                 variant.c_str(), dt, dt / est.rayleigh_time,
-                 p.blew_up ? "BLOW-UP" : (p.stable ? "stable" : "UNSTABLE"), p.growth, p.max_change);
+    std::fprintf(
+        stderr,
+        "  %-12s dt %.4g s (%.4f T_R), %ld steps: %s, energy growth %.3g +- %.2g per T_R, max |E/E0-1| "
+        "%.3g\n",
+        variant.c_str(), dt, dt / est.rayleigh_time, p.steps,
+        p.blew_up ? "BLOW-UP" : (p.stable ? "stable" : "UNSTABLE"), p.growth, p.growth_error, p.max_change);
   return p;
 }
 
@@ -305,17 +334,17 @@ std::string write_stability_report(const std::string& dir, const std::string& sc
         << e.contact_time << " s, limit " << e.limit << " s, auto_step " << e.step << " s, threshold "
         << settings.growth_threshold << " per characteristic time " << r.characteristic_time << " s\n";
     out << "variant,dt,dt_over_rayleigh,dt_over_contact,steps,energy_start,energy_end,growth_per_char_time,"
-           "max_rel_change,growth_checked,blew_up,stable\n";
+           "max_rel_change,growth_checked,blew_up,stable,growth_std_error,grows\n";
     char line[512];
     auto sorted = r.probes;
     std::stable_sort(sorted.begin(), sorted.end(), [](const StabilityProbe& a, const StabilityProbe& b) {
       return a.variant != b.variant ? a.variant < b.variant : a.dt < b.dt;
     });
     for (const StabilityProbe& p : sorted) {
-      std::snprintf(line, sizeof line, "%s,%.6e,%.6f,%.6f,%ld,%.10e,%.10e,%.6e,%.6e,%d,%d,%d\n",
+      std::snprintf(line, sizeof line, "%s,%.6e,%.6f,%.6f,%ld,%.10e,%.10e,%.6e,%.6e,%d,%d,%d,%.6e,%d\n",
                     p.variant.c_str(), p.dt, p.dt / e.rayleigh_time, p.dt / e.contact_time, p.steps,
                     p.energy_start, p.energy_end, p.growth, p.max_change, int(p.growth_checked),
-                    int(p.blew_up), int(p.stable));
+                    int(p.blew_up), int(p.stable), p.growth_error, int(grows_significantly(p)));
       out << line;
     }
     out.close();
@@ -325,13 +354,18 @@ std::string write_stability_report(const std::string& dir, const std::string& sc
   std::ofstream md(md_path);
   char buf[512];
   md << "# Stability scan of " << scene_name << "\n\n";
+  char probe_length[64];
+  if (settings.probe_time > 0)
+    std::snprintf(probe_length, sizeof probe_length, "probes of %.4g s simulated", settings.probe_time);
+  else
+    std::snprintf(probe_length, sizeof probe_length, "%ld steps per probe", settings.steps);
   std::snprintf(
       buf, sizeof buf,
       "Rayleigh time %.4g s, shortest contact time %.4g s, stable limit estimate %.4g s, auto step %.4g s; "
-      "%ld steps per probe, growth threshold %.3g per characteristic time (%.4g s); gravity %s in the "
-      "conservative variant.\n\n",
-      e.rayleigh_time, e.contact_time, e.limit, e.step, settings.steps, settings.growth_threshold,
-      r.characteristic_time, r.gravity_kept ? "kept" : "off");
+      "%s (%d energy samples each), growth threshold %.3g per characteristic time (%.4g s); gravity %s in "
+      "the conservative variant.\n\n",
+      e.rayleigh_time, e.contact_time, e.limit, e.step, probe_length, settings.samples,
+      settings.growth_threshold, r.characteristic_time, r.gravity_kept ? "kept" : "off");
   md << buf;
   md << "| variant | largest stable dt (s) | dt / T_R | dt / t_c | first unstable dt (s) | auto step / "
         "largest stable |\n";
@@ -343,6 +377,36 @@ std::string write_stability_report(const std::string& dir, const std::string& sc
   };
   if (settings.conservative) row("conservative", r.critical_conservative, r.unstable_conservative);
   if (settings.given) row("given", r.critical_given, r.unstable_given);
+  // Hu's criterion: the first step whose growth is above zero beyond two standard errors.
+  md << "\nHu's criterion (growth above zero by more than two standard errors of its fit):\n\n";
+  md << "| variant | largest step with no significant growth (s) | dt / T_R | first step that grows (s) | dt "
+        "/ T_R "
+        "| its growth per T_R |\n|---|---|---|---|---|---|\n";
+  for (const char* variant : {"conservative", "given"}) {
+    std::vector<StabilityProbe> ps;
+    for (const StabilityProbe& p : r.probes)
+      if (p.variant == variant && p.growth_checked) ps.push_back(p);
+    if (ps.empty()) continue;
+    std::sort(ps.begin(), ps.end(),
+              [](const StabilityProbe& a, const StabilityProbe& b) { return a.dt < b.dt; });
+    double last_flat = 0;
+    const StabilityProbe* first_growing = nullptr;
+    for (const StabilityProbe& p : ps) {
+      if (grows_significantly(p)) {
+        first_growing = &p;
+        break;
+      }
+      last_flat = p.dt;
+    }
+    if (first_growing)
+      std::snprintf(buf, sizeof buf, "| %s | %.4g | %.4f | %.4g | %.4f | %.3g +- %.2g |\n", variant,
+                    last_flat, last_flat / e.rayleigh_time, first_growing->dt,
+                    first_growing->dt / e.rayleigh_time, first_growing->growth, first_growing->growth_error);
+    else
+      std::snprintf(buf, sizeof buf, "| %s | %.4g | %.4f | none probed | | |\n", variant, last_flat,
+                    last_flat / e.rayleigh_time);
+    md << buf;
+  }
   for (const StabilityProbe& p : r.probes)
     if (p.blew_up) {
       md << "\nFirst blow-up diagnosis (" << p.variant << ", dt " << p.dt << " s):\n\n    " << p.diagnosis
@@ -371,6 +435,10 @@ Options:
                          time), 0.5tc (x contact time), 2limit (x the stable-limit estimate)
   --range lo:hi:n        n geometrically spaced steps from lo to hi (same units); default 0.1limit:10limit:13
   --steps N              steps per probe (default 2000)
+  --time T               simulated time per probe instead (seconds): ceil(T / dt) steps at each dt, so
+                         every probe covers the same time (Hu's runs: 0.1 s)
+  --samples N            energy samples per probe for the growth fit (default 20); the CSV gives the
+                         slope's standard error and whether it grows beyond two of them (Hu's criterion)
   --refine K             bisection steps between the last stable and the first unstable (default 3)
   --threshold X          energy growth per Rayleigh time counted as unstable (default 1e-4)
   --variant V            conservative | given | both (default both)
@@ -421,6 +489,10 @@ int stability_command(const std::vector<std::string>& args) {
         range_text = value();
       else if (name == "--steps")
         settings.steps = static_cast<long>(number(value()));
+      else if (name == "--time")
+        settings.probe_time = number(value());
+      else if (name == "--samples")
+        settings.samples = static_cast<int>(number(value()));
       else if (name == "--refine")
         settings.refine = static_cast<int>(number(value()));
       else if (name == "--threshold")
@@ -444,6 +516,8 @@ int stability_command(const std::vector<std::string>& args) {
     }
     if (scene_path.empty()) throw CliError("no scene file given (see --help)");
     if (settings.steps < 10) throw CliError("--steps expects at least 10");
+    if (settings.probe_time < 0) throw CliError("--time expects a simulated time > 0 in seconds");
+    if (settings.samples < 3) throw CliError("--samples expects at least 3 (a slope and its error)");
     if (variant != "both" && variant != "conservative" && variant != "given")
       throw CliError("--variant expects conservative, given or both");
   } catch (const CliError& e) {

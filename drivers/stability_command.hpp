@@ -23,7 +23,8 @@ namespace cgdem {
 
 struct StabilitySettings {
   std::vector<double> dts;        // absolute steps in seconds; empty: 0.1 to 10 x the stable limit
-  long steps = 2000;              // steps per probe
+  long steps = 2000;              // steps per probe (when probe_time is 0)
+  double probe_time = 0;          // > 0: each probe runs this simulated time instead (ceil(time / dt) steps)
   int samples = 20;               // energy samples per probe (least-squares slope)
   double growth_threshold = 1e-4; // relative energy growth per characteristic time that is unstable
   int refine = 3;                 // bisection steps between the last stable and the first unstable
@@ -38,6 +39,7 @@ struct StabilityProbe {
   long steps = 0; // completed steps
   double energy_start = 0, energy_end = 0;
   double growth = 0;          // d(E/E0)/dt x characteristic time (least squares over samples)
+  double growth_error = 0;    // its standard error (from the fit's residuals; 0 with fewer than 3 samples)
   double max_change = 0;      // max |E/E0 - 1| over the samples
   bool growth_checked = true; // false: energy may legitimately grow (adhesion, moving walls)
   bool blew_up = false;
@@ -54,6 +56,20 @@ struct StabilityResult {
   double critical_conservative = 0, unstable_conservative = std::numeric_limits<double>::infinity();
   double critical_given = 0, unstable_given = std::numeric_limits<double>::infinity();
 };
+
+// Least-squares line y = a + b x through the points: the slope b and its standard error
+// sqrt(sum(residual^2) / (n - 2) / sum((x - mean x)^2)) (0 with fewer than three points). Hu's criterion
+// calls a step unstable when the energy's growth rate is above zero beyond its uncertainty: b > 2 x error.
+struct SlopeFit {
+  double slope = 0, std_error = 0;
+};
+SlopeFit fit_slope(const std::vector<double>& x, const std::vector<double>& y);
+
+// Whether a probe's growth is above zero by more than two standard errors (Hu et al. 2022's criterion,
+// "the energy increase rate becomes positive", with the fit's uncertainty as the margin).
+inline bool grows_significantly(const StabilityProbe& p) {
+  return p.blew_up || p.growth > 2 * p.growth_error;
+}
 
 // The frictionless, undamped, non-adhesive variant (see above); *gravity_kept tells whether a floor kept
 // gravity on.

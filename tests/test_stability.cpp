@@ -614,6 +614,51 @@ TEST(StabilityHardCases, HuPeriodicBoxCriticalStep) {
   EXPECT_TRUE(std::isfinite(res.unstable_conservative));
 }
 
+TEST(StabilityFit, SlopeAndStandardErrorAgainstHandValues) {
+  // y = 1, 3, 2, 5, 4 at x = 0..4: mean x 2, mean y 3, Sxx 10, Sxy 8 -> slope 0.8; residuals
+  // -0.4, 0.8, -1.0, 1.2, -0.6 -> SS 3.6 -> standard error sqrt(3.6 / 3 / 10) = sqrt(0.12).
+  const SlopeFit f = fit_slope({0, 1, 2, 3, 4}, {1, 3, 2, 5, 4});
+  EXPECT_NEAR(f.slope, 0.8, 1e-14);
+  EXPECT_NEAR(f.std_error, std::sqrt(0.12), 1e-14);
+  // Points on a line: the slope, and no uncertainty.
+  const SlopeFit line = fit_slope({0.5, 1.5, 2.5, 4.0}, {2.0, 1.0, 0.0, -1.5});
+  EXPECT_NEAR(line.slope, -1.0, 1e-14);
+  EXPECT_LT(line.std_error, 1e-14);
+  // Two points: a slope, no error; one point: nothing.
+  EXPECT_NEAR(fit_slope({0, 2}, {1, 2}).slope, 0.5, 1e-15);
+  EXPECT_EQ(fit_slope({0, 2}, {1, 2}).std_error, 0.0);
+  EXPECT_EQ(fit_slope({1}, {1}).slope, 0.0);
+}
+
+TEST(StabilityHardCases, HuCriterionFlagsGrowthBeyondItsErrorOnly) {
+  // Hu's criterion on the periodic box (Table 7 material, 1000 particles): probes of the same simulated
+  // time at each step (ceil(T / dt) steps); at 0.14 T_R the fitted growth lies within two standard errors
+  // of zero, at 0.8 T_R (docs/stability.md: the energy rises there, without a blow-up) it is above zero
+  // beyond them.
+  const double r = 0.25e-3, rho = 1000, E = 100e6, nu = 0.3;
+  const int n = 1000;
+  const double box = std::cbrt(n * 4.0 / 3.0 * M_PI * r * r * r / 0.3);
+  const ParticleSet p = random_periodic(n, box, r, r, rho, 1.0, 9);
+  const Scene s = periodic(box, material("hu7", rho, E, nu, 1.0, 0.0), "none");
+  const double tr = rayleigh_time(r, rho, E, nu);
+  StabilitySettings set;
+  set.probe_time = 300 * tr;
+  set.samples = 30;
+  set.backend = "serial";
+  const StabilityProbe calm = stability_probe(s, p, 0.14 * tr, set, "conservative");
+  const StabilityProbe hot = stability_probe(s, p, 0.8 * tr, set, "conservative");
+  std::printf("[ report ] Hu criterion, box of %d: 0.14 T_R growth %.3g +- %.2g per T_R (%ld steps); 0.8 T_R "
+              "%.3g +- %.2g (%ld steps)%s\n",
+              n, calm.growth, calm.growth_error, calm.steps, hot.growth, hot.growth_error, hot.steps,
+              hot.blew_up ? " BLOW-UP" : "");
+  EXPECT_EQ(calm.steps, static_cast<long>(std::ceil(300 / 0.14 - 1e-9)));
+  EXPECT_GT(calm.growth_error, 0);
+  EXPECT_FALSE(grows_significantly(calm));
+  ASSERT_FALSE(hot.blew_up);
+  EXPECT_TRUE(grows_significantly(hot));
+  EXPECT_GT(hot.growth, 2 * hot.growth_error);
+}
+
 TEST(StabilityHardCases, HuPeriodicBoxCriticalStepDoublesWithFactorUnderMethod1) {
   // Hu et al. 2022 Fig. 20: under Method 1 (forces l^2 F_O from the original overlap delta_S / l) the
   // scaled-up box, grown with l so that it holds the same number of particles at the same packing, goes
