@@ -48,7 +48,7 @@ def main():
     top = 0
     curves = []
     for k, spec in enumerate(a.runs):
-        label, path = spec.split("=", 1)
+        label, path = spec.rsplit("=", 1)
         rows, tr = read(path, a.variant)
         scale = (a.rayleigh_time / tr) if (a.rayleigh_time and tr) else 1.0
         curves.append((label, rows, scale, f"C{k}"))
