@@ -379,9 +379,8 @@ std::string write_stability_report(const std::string& dir, const std::string& sc
   if (settings.given) row("given", r.critical_given, r.unstable_given);
   // Hu's criterion: the first step whose growth is above zero beyond two standard errors.
   md << "\nHu's criterion (growth above zero by more than two standard errors of its fit):\n\n";
-  md << "| variant | largest step with no significant growth (s) | dt / T_R | first step that grows (s) | dt "
-        "/ T_R "
-        "| its growth per T_R |\n|---|---|---|---|---|---|\n";
+  md << "| variant | largest step with no significant growth (s) | dt / T_R | first step that grows (s) | "
+        "dt / T_R | its growth per T_R |\n|---|---|---|---|---|---|\n";
   for (const char* variant : {"conservative", "given"}) {
     std::vector<StabilityProbe> ps;
     for (const StabilityProbe& p : r.probes)

@@ -2,7 +2,8 @@
 """Energy growth rate against time step, several systems in one plot, like Hu et al. 2022's Fig. 20.
 
 Each LABEL=stability.csv (from `cgdem stability ... --time T --samples N`) gives one curve: the fitted
-growth of the total energy per Rayleigh time of the ORIGINAL particles, with bars of two standard errors;
+growth of the total energy per Rayleigh time (each file's own, or the one given by --rayleigh-time, e.g.
+the original particles'), with bars of two standard errors;
 a filled marker grows beyond them (Hu's criterion: the rate is positive), an open one does not, x is a
 blow-up (drawn at the top).
 
@@ -10,27 +11,17 @@ usage: plot_growth_rate.py OUT.png LABEL=stability.csv [LABEL=stability.csv ...]
            [--rayleigh-time SECONDS] [--variant conservative] [--title TEXT]
 """
 import argparse
-import csv
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from plot_stability import read_stability_csv
 
 
 def read(path, variant):
-    rows, header = [], ""
-    with open(path) as f:
-        lines = []
-        for line in f:
-            if line.startswith("#"):
-                header = line[1:].strip()
-            else:
-                lines.append(line)
-    for r in csv.DictReader(lines):
-        if r["variant"] == variant:
-            rows.append(r)
-    rows.sort(key=lambda r: float(r["dt"]))
+    header, rows = read_stability_csv(path)
+    rows = sorted((r for r in rows if r["variant"] == variant), key=lambda r: float(r["dt"]))
     tr = float(header.split("rayleigh_time")[1].split()[0]) if "rayleigh_time" in header else None
     return rows, tr
 

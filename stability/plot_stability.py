@@ -12,19 +12,22 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 
-def main():
-    src, png = sys.argv[1], sys.argv[2]
-    title = sys.argv[3] if len(sys.argv) > 3 else None
-    header = ""
-    rows = []
-    with open(src) as f:
-        lines = []
+def read_stability_csv(path):
+    """The '#' header line (without '#') and the rows of a `cgdem stability` CSV."""
+    header, lines = "", []
+    with open(path) as f:
         for line in f:
             if line.startswith("#"):
                 header = line[1:].strip()
             else:
                 lines.append(line)
-        rows = list(csv.DictReader(lines))
+    return header, list(csv.DictReader(lines))
+
+
+def main():
+    src, png = sys.argv[1], sys.argv[2]
+    title = sys.argv[3] if len(sys.argv) > 3 else None
+    header, rows = read_stability_csv(src)
     threshold = None
     if "threshold" in header:
         threshold = float(header.split("threshold")[1].split()[0])
