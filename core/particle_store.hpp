@@ -32,6 +32,9 @@ struct ParticleStore {
   View<int*> group;
   View<int*> contacts;      // active particle-particle contacts at the last force evaluation
   View<int*> wall_contacts; // active wall contacts at the last force evaluation
+  // 1: a copy of a particle that another MPI rank owns (parallel/distributed_engine.hpp), integrated here
+  // only to be overwritten by its owner's state each step and left out of the system's sums; 0: owned.
+  View<int*> halo;
 
   int size() const { return static_cast<int>(id.extent(0)); }
 
@@ -58,6 +61,7 @@ struct ParticleStore {
     visit("group", s.group);
     visit("contacts", s.contacts);
     visit("wall_contacts", s.wall_contacts);
+    visit("halo", s.halo);
   }
 
   // Values per particle of a field's view type: 1 or the fixed column count.

@@ -24,6 +24,8 @@
 #include "drivers/scene_parser.hpp"
 #include "kernels/engine.hpp"
 #include "models/component_lists.hpp"
+#include "parallel/distributed_engine.hpp"
+#include "parallel/mpi_session.hpp"
 
 namespace cgdem {
 
@@ -183,6 +185,10 @@ private:
 int run_command(const std::vector<std::string>& args) {
   RunOptions o;
   if (const int code = read_options(args, "run", run_help(), true, o); code >= 0) return code;
+  // Under mpirun every rank runs this same function on its share of the particles (the engine's calls
+  // are collective); rank 0 alone prints and writes files.
+  const bool distributed = parallel::world_size() > 1, root = parallel::world_rank() == 0;
+  if (!root) std::freopen("/dev/null", "w", stderr);
   KokkosSession kokkos(o.threads);
   const std::string backend = o.backend.empty() ? default_backend() : o.backend;
   PreparedRun p;
@@ -197,8 +203,15 @@ int run_command(const std::vector<std::string>& args) {
     // Host copies of the particles cost ~100 B per particle each: the scene's set is in p.config by now,
     // and p.config's is on the device once the engine exists.
     p.particles = ParticleSet{};
+    if (distributed) {
+      if (exchange->active())
+        throw std::runtime_error("inlets and outlets run in one process: run this scene without mpirun");
+      p.config.resizable = true; // each rank keeps its share
+    }
     engine = make_engine(p.config, backend);
     p.config.particles = ParticleSet{};
+    if (distributed)
+      engine = parallel::make_distributed_engine(std::move(engine), p.config.domain, p.config.skin);
     if (!o.restart.empty()) {
       restart = read_checkpoint(o.restart);
       try {
@@ -247,14 +260,14 @@ int run_command(const std::vector<std::string>& args) {
   for (const Wall& w : p.config.walls)
     if (w.type == Wall::Mesh)
       info.meshes.push_back({p.config.wall_names[w.owner], p.config.meshes[w.mesh], w});
-  std::unique_ptr<ResultWriter> writer_ptr;
+  std::unique_ptr<ResultWriter> writer_ptr; // rank 0's only
   try {
-    writer_ptr = std::make_unique<ResultWriter>(out, info, p.scene.output.fields);
+    if (root) writer_ptr = std::make_unique<ResultWriter>(out, info, p.scene.output.fields);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "cgdem: output write failed: %s\n", e.what());
+    if (distributed) parallel::abort_all(exit_write_failed);
     return exit_write_failed;
   }
-  ResultWriter& writer = *writer_ptr;
 
   const int n = engine->size();
   const std::string inlet_note =
@@ -276,8 +289,10 @@ int run_command(const std::vector<std::string>& args) {
                  row.analyses);
     exchange->record(row.analyses, engine->size());
     try {
-      writer.write_frame(std::move(frame));
-      writer.write_series(std::move(row));
+      if (writer_ptr) {
+        writer_ptr->write_frame(std::move(frame));
+        writer_ptr->write_series(std::move(row));
+      }
     } catch (const std::runtime_error& e) {
       throw OutputFailure(e.what());
     }
@@ -289,7 +304,7 @@ int run_command(const std::vector<std::string>& args) {
       CheckpointData c = engine->checkpoint();
       exchange->save(c);
       save_analysis_states(analyses, c);
-      write_checkpoint(checkpoint_path, c);
+      if (root) write_checkpoint(checkpoint_path, c);
     } catch (const std::runtime_error& e) {
       throw OutputFailure(e.what());
     }
@@ -301,11 +316,12 @@ int run_command(const std::vector<std::string>& args) {
     std::replace(what.begin(), what.end(), '\n', ' '); // HDF5's messages carry a time stamp with a newline
     std::fprintf(stderr, "\ncgdem: output write failed at step %ld: %s\n", engine->step(), what.c_str());
     try {
-      writer.close();
+      if (writer_ptr) writer_ptr->close();
     } catch (const std::exception&) { // the same failure, already reported
     }
     std::string saved;
-    if (checkpoint_every > 0 && what.find(checkpoint_path) == std::string::npos) {
+    // The other ranks wait in the next collective call: the checkpoint below cannot gather them.
+    if (checkpoint_every > 0 && what.find(checkpoint_path) == std::string::npos && !distributed) {
       try {
         CheckpointData c = engine->checkpoint();
         exchange->save(c);
@@ -319,8 +335,9 @@ int run_command(const std::vector<std::string>& args) {
       saved = "; " + checkpoint_path + " holds the previous checkpoint";
     }
     std::replace(saved.begin(), saved.end(), '\n', ' ');
-    std::fprintf(stderr, "cgdem: %s keeps %lld complete frames%s\n", writer.path().c_str(),
-                 static_cast<long long>(writer.frames_written()), saved.c_str());
+    std::fprintf(stderr, "cgdem: %s keeps %lld complete frames%s\n", writer_ptr->path().c_str(),
+                 static_cast<long long>(writer_ptr->frames_written()), saved.c_str());
+    if (distributed) parallel::abort_all(exit_write_failed);
     return exit_write_failed;
   };
   try {
@@ -377,13 +394,13 @@ int run_command(const std::vector<std::string>& args) {
       }
     }
     try {
-      writer.flush();
+      if (writer_ptr) writer_ptr->flush();
     } catch (const std::runtime_error& e) {
       throw OutputFailure(e.what());
     }
   } catch (const BlowUpError& e) {
     try {
-      writer.flush();
+      if (writer_ptr) writer_ptr->flush();
     } catch (const std::exception& w) {
       std::fprintf(stderr, "\ncgdem: output write failed too: %s\n", w.what());
     }
@@ -395,20 +412,29 @@ int run_command(const std::vector<std::string>& args) {
   const double wall = std::chrono::duration<double>(clock::now() - start).count();
   const long steps = engine->step() - first_step;
   const StepTimers t = engine->timers();
-  const double timed = t.integrate + t.binning + t.neighbor_list + t.forces;
+  const double timed = t.integrate + t.binning + t.neighbor_list + t.forces + t.communication;
   const Observables last = engine->observe();
+  if (!writer_ptr) return 0; // a rank other than 0: rank 0 reports
+  const ResultWriter& writer = *writer_ptr;
   if (interactive) std::fprintf(stderr, "\r%100s\r", "");
   std::fprintf(
       stderr,
       "done%s: %ld steps of %d particles in %s: %.3g particle-steps/s\n"
-      "  time split: forces %.0f%%, neighbour list %.0f%%, binning+reorder %.0f%%, integration %.0f%% "
+      "  time split: forces %.0f%%, neighbour list %.0f%%, binning+reorder %.0f%%, integration %.0f%%%s "
       "(%ld list builds)\n"
       "  final: t = %.4g s, kinetic energy %.4g J, %ld contacts\n"
       "  wrote %s (%lld frames) and %s\n",
       stopped_early ? " (stop condition)" : "", steps, engine->size(), human_duration(wall).c_str(),
       particle_steps / wall, 100 * t.forces / timed, 100 * t.neighbor_list / timed, 100 * t.binning / timed,
-      100 * t.integrate / timed, t.list_builds, last.time, last.kinetic_energy, last.contacts,
-      writer.path().c_str(), static_cast<long long>(writer.frames_written()), writer.xdmf_path().c_str());
+      100 * t.integrate / timed,
+      distributed
+          ? (", MPI communication " + std::to_string(std::lround(100 * t.communication / timed)) +
+             "% (rank 0; particles per rank: largest " + std::to_string(std::lround(100 * t.load_imbalance)) +
+             "% above the mean, " + std::to_string(t.rebalances) + " rebalances)")
+                .c_str()
+          : "",
+      t.list_builds, last.time, last.kinetic_energy, last.contacts, writer.path().c_str(),
+      static_cast<long long>(writer.frames_written()), writer.xdmf_path().c_str());
   if (escapes.outside_now() > 0)
     std::fprintf(stderr, "  %ld particle(s) outside the domain in the last frame\n", escapes.outside_now());
   for (const std::string& line : exchange->shortfalls(last.time))

@@ -33,6 +33,7 @@
 #include "drivers/kokkos_session.hpp"
 #include "drivers/scene_parser.hpp"
 #include "drivers/sweep_statistics.hpp"
+#include "parallel/mpi_session.hpp"
 
 extern char** environ;
 
@@ -340,8 +341,12 @@ struct Sweep {
                    plan.run.c_str(), pieces.last_step, pieces.count + 1);
     }
     std::vector<std::string> env;
-    for (char** e = environ; *e; ++e)
-      if (!unpin || std::strncmp(*e, "OMP_PROC_BIND=", 14) != 0) env.push_back(*e);
+    for (char** e = environ; *e; ++e) {
+      if (unpin && std::strncmp(*e, "OMP_PROC_BIND=", 14) == 0) continue;
+      // A run is a process of its own, not one of mpirun's ranks: without these it starts as a singleton.
+      if (std::strncmp(*e, "OMPI_", 5) == 0 || std::strncmp(*e, "PMIX_", 5) == 0) continue;
+      env.push_back(*e);
+    }
     // One single-threaded run per core: Kokkos' default pinning would put them all on the first core.
     if (unpin) env.push_back("OMP_PROC_BIND=false");
     const auto start = std::chrono::steady_clock::now();
@@ -864,6 +869,8 @@ Examples:
   cgdem sweep sweeps/tiny_pile.yaml --laws chen_elliott,bond --k 1,2,3 --out tiny_sweep
   cgdem sweep sweeps/chen_repose.yaml --laws chen_elliott --k 2 --seeds 1,2,3 --reference-seeds 1,2 \
       --checkpoint-every 0.1 --out repose
+  mpirun -np 4 cgdem sweep sweeps/tiny_pile.yaml --laws bond --k 1,2 --seeds 1,2 --out tiny_sweep
+      (under mpirun each rank runs every 4th run on its cores / ranks threads; rank 0 writes the tables)
 )";
 }
 
@@ -873,6 +880,10 @@ int sweep_command(const std::vector<std::string>& args) {
       std::cout << sweep_help();
       return 0;
     }
+  // Under mpirun each rank runs its share of the runs (every ranks-th, from its rank on); rank 0 then
+  // compares them all from their records and alone prints and writes the tables.
+  const int rank = parallel::world_rank(), ranks = parallel::world_size();
+  if (rank != 0) std::freopen("/dev/null", "w", stderr);
   Sweep s;
   try {
     s.o = parse_sweep_options(args);
@@ -956,7 +967,8 @@ int sweep_command(const std::vector<std::string>& args) {
                      p.run.c_str(), p.particles, 100 * (p.mass / ref_mass - 1), plans.front().particles);
   }
 
-  const int threads = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
+  const int threads =
+      o.threads > 0 ? o.threads : std::max(1, int(std::thread::hardware_concurrency()) / std::max(1, ranks));
   const std::string policy = o.policy == "auto" ? kAutoPolicy : o.policy;
   s.dir = fs::absolute(o.out);
   s.exe = self_exe();
@@ -972,7 +984,9 @@ int sweep_command(const std::vector<std::string>& args) {
   }
 
   std::vector<RunPlan> pending;
-  for (const auto& p : plans) {
+  for (std::size_t k = 0; k < plans.size(); ++k) {
+    const RunPlan& p = plans[k];
+    if (int(k % std::size_t(ranks)) != rank) continue; // another rank's
     if (fs::exists(s.record_path(p.run))) {
       if (!o.quiet)
         std::fprintf(stderr, "skip %s: record exists (%s)\n", p.run.c_str(), s.record_path(p.run).c_str());
@@ -982,8 +996,10 @@ int sweep_command(const std::vector<std::string>& args) {
   }
   s.total = static_cast<int>(pending.size());
   if (!o.quiet)
-    std::fprintf(stderr, "cgdem sweep: %zu runs (%zu to do), policy %s on %d threads, results in %s\n",
-                 plans.size(), pending.size(), policy.c_str(), threads, s.dir.c_str());
+    std::fprintf(stderr, "cgdem sweep: %zu runs (%zu to do%s), policy %s on %d threads, results in %s\n",
+                 plans.size(), pending.size(),
+                 ranks > 1 ? (" on rank 0 of " + std::to_string(ranks) + ", the others alike").c_str() : "",
+                 policy.c_str(), threads, s.dir.c_str());
   const auto start = std::chrono::steady_clock::now();
   std::atomic<bool> interrupted{false};
   if (policy == "serial") {
@@ -1000,10 +1016,11 @@ int sweep_command(const std::vector<std::string>& args) {
       group.wait();
     });
   }
-  if (interrupted) {
+  if (parallel::max_over_ranks(interrupted ? 1 : 0)) {
     std::fprintf(stderr, "cgdem sweep: some runs did not finish; start the sweep again to complete them\n");
     return 1;
   }
+  if (rank != 0) return 0;
 
   // Everything below comes from the records alone.
   // With several reference seeds every run is compared with their mean.

@@ -14,6 +14,12 @@ namespace cgdem {
 
 struct StepTimers {
   double integrate = 0, binning = 0, neighbor_list = 0, forces = 0;
+  // Between MPI ranks (parallel/distributed_engine.hpp): time in communication (halo, redistribution,
+  // waiting for the slowest rank), the ranks' particle counts' spread (largest / mean - 1) at the last
+  // redistribution, and how often the bricks were moved to even them out.
+  double communication = 0;
+  double load_imbalance = 0;
+  long rebalances = 0;
   long list_builds = 0;
 };
 
@@ -23,6 +29,7 @@ struct Observables {
   double kinetic_energy = 0, rotational_energy = 0;
   double momentum[3] = {0, 0, 0};
   long contacts = 0;
+  long pair_contact_ends = 0; // particle-particle contacts counted from both particles (owned ones only)
   double max_speed = 0;
   double max_overlap_fraction = 0; // largest overlap / smaller radius
   std::vector<double> wall_force;  // 3 per named wall: the particles' force on it
@@ -51,6 +58,18 @@ public:
   // and positions at the current time), keeping every other particle's state and contact history. Forces
   // on the added particles start at zero; those of the kept ones keep the last evaluation.
   virtual void exchange(const std::vector<std::int64_t>& remove_ids, const ParticleSet& add) = 0;
+  // The state a halo copy on another rank follows: position, velocity, angular velocity, force and torque
+  // (kStateRowWidth values per particle, in that order) of the particles at the given store indices.
+  static constexpr int kStateRowWidth = 15;
+  virtual void read_state_rows(const std::vector<int>& index, std::vector<double>& rows) = 0;
+  virtual void write_state_rows(const std::vector<int>& index, const std::vector<double>& rows) = 0;
+  // The store's particle ids in store order (it changes at every list build that reorders).
+  virtual std::vector<std::int64_t> store_ids() = 0;
+  // One pair's history seen from the other particle (the contact law's flip_history).
+  virtual void flip_pair_history(double* history) const = 0;
+  // The neighbour cut-off's widest reach between particle centres: twice the largest radius, the law's
+  // interaction range and the skin.
+  virtual double interaction_cutoff() const = 0;
   virtual double time() const = 0;
   virtual long step() const = 0;
   virtual int size() const = 0;

@@ -11,6 +11,7 @@ struct SystemSums {
   Real kinetic = 0, rotational = 0;
   Real momentum[3] = {0, 0, 0};
   long contacts = 0;
+  long pair_slots = 0; // the owned particles' particle-particle contacts, each pair counted from both ends
   Real max_speed = 0;
 
   KOKKOS_INLINE_FUNCTION SystemSums& operator+=(const SystemSums& o) {
@@ -19,6 +20,7 @@ struct SystemSums {
     for (int a = 0; a < 3; ++a)
       momentum[a] += o.momentum[a];
     contacts += o.contacts;
+    pair_slots += o.pair_slots;
     max_speed = max_speed > o.max_speed ? max_speed : o.max_speed;
     return *this;
   }
@@ -34,9 +36,11 @@ SystemSums system_sums(const ParticleStore<typename ExecSpace::memory_space>& p,
   auto I = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.inertia);
   auto c = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.contacts);
   auto cw = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.wall_contacts);
+  auto halo = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), p.halo);
   long pair_slots = 0;
   SystemSums s;
   for (int i = 0; i < n; ++i) {
+    if (halo(i)) continue; // its owner counts it
     const Vec3 vi{v(i, 0), v(i, 1), v(i, 2)};
     const Vec3 wi{w(i, 0), w(i, 1), w(i, 2)};
     s.kinetic += 0.5 * m(i) * norm2(vi);
@@ -48,7 +52,10 @@ SystemSums system_sums(const ParticleStore<typename ExecSpace::memory_space>& p,
     const Real sp = norm(vi);
     if (sp > s.max_speed) s.max_speed = sp;
   }
-  s.contacts += pair_slots / 2; // each particle-particle contact is seen from both sides
+  // Each particle-particle contact is seen from both sides; a contact with a halo copy is counted here
+  // once and once more on the copy's owner (the caller sums the ranks' slots before halving).
+  s.contacts += pair_slots / 2;
+  s.pair_slots = pair_slots;
   return s;
 }
 
@@ -60,12 +67,14 @@ struct WallLoads {
 };
 template <class ExecSpace>
 WallLoads wall_loads(const Kokkos::View<Real* [3], typename ExecSpace::memory_space>& record,
+                     const Kokkos::View<int*, typename ExecSpace::memory_space>& halo,
                      const std::vector<int>& owner, int num_named, int n) {
   auto f = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), record);
+  auto h = Kokkos::create_mirror_view_and_copy(Kokkos::HostSpace(), halo);
   const int parts = static_cast<int>(owner.size());
   WallLoads out{std::vector<Real>(3 * num_named, 0.0), std::vector<Real>(3 * num_named, 0.0)};
   for (int i = 0; i < n; ++i)
-    for (int w = 0; w < parts; ++w)
+    for (int w = 0; w < parts && !h(i); ++w) // a halo copy's load is counted by its owner
       for (int a = 0; a < 3; ++a) {
         out.force[3 * owner[w] + a] -= f(2 * (i * parts + w), a);
         out.torque[3 * owner[w] + a] += f(2 * (i * parts + w) + 1, a);

@@ -105,6 +105,7 @@ public:
     for (int a = 0; a < 3; ++a)
       o.momentum[a] = s.momentum[a];
     o.contacts = s.contacts;
+    o.pair_contact_ends = s.pair_slots;
     o.max_speed = s.max_speed;
     o.max_overlap_fraction = max_overlap_fraction();
     // Wall forces recorded by the last force evaluation (the last step of advance(), or construction).
@@ -112,8 +113,8 @@ public:
       std::vector<int> owner;
       for (const Wall& w : cfg_.walls)
         owner.push_back(w.owner);
-      WallLoads loads =
-          wall_loads<ExecSpace>(wall_force_record_, owner, static_cast<int>(cfg_.wall_names.size()), n_);
+      WallLoads loads = wall_loads<ExecSpace>(wall_force_record_, store_.halo, owner,
+                                              static_cast<int>(cfg_.wall_names.size()), n_);
       o.wall_force = std::move(loads.force);
       o.wall_torque = std::move(loads.torque);
     }
@@ -130,6 +131,18 @@ public:
   void restore(const CheckpointData& c) override;
   void exchange(const std::vector<std::int64_t>& remove_ids, const ParticleSet& add) override;
 
+  void read_state_rows(const std::vector<int>& index, std::vector<double>& rows) override;
+  void write_state_rows(const std::vector<int>& index, const std::vector<double>& rows) override;
+  std::vector<std::int64_t> store_ids() override;
+  void flip_pair_history(double* history) const override {
+    Real h[H > 0 ? H : 1];
+    for (int k = 0; k < H; ++k)
+      h[k] = static_cast<Real>(history[k]);
+    Law::flip_history(h);
+    for (int k = 0; k < H; ++k)
+      history[k] = h[k];
+  }
+  double interaction_cutoff() const override { return 2 * max_radius_ + cutoff_extra_; }
   double time() const override { return time_; }
   long step() const override { return step_; }
   int size() const override { return n_; }
@@ -146,6 +159,7 @@ public:
   // Internal steps, public only because they launch device lambdas: CUDA requires the enclosing member
   // function of an extended lambda to be public.
   void allocate_per_particle_scratch(); // everything sized by n_ beside the store and the list
+  void stage_state_rows(const std::vector<int>& index); // into row_index_, row_buffer_ grown to fit
   Real max_overlap_fraction();
   void check_overlaps();
 
@@ -175,6 +189,8 @@ private:
   CellGrid grid_;
   Kokkos::View<int*, Mem> identity_;
   Kokkos::View<int*, Mem> old_index_; // new -> old index of the last reorder (history transfer)
+  Kokkos::View<int*, Mem> row_index_; // read_state_rows / write_state_rows: the store indices
+  Kokkos::View<double**, Kokkos::LayoutRight, Mem> row_buffer_; // and their rows
   // How the force pass shares the pairs among threads (ContactForces::Path); the backend's own by default.
   typename ContactForces<ExecSpace, Law>::Path force_path_ = ContactForces<ExecSpace, Law>::kDefaultPath;
   Real cutoff_extra_ = 0;

@@ -401,7 +401,10 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
     throw std::runtime_error("checkpoint was written by a different contact law (history size differs)");
   ParticleStore<Mem>::for_each_field(store_, [&](const char* name, const auto& field) {
     using T = typename std::decay_t<decltype(field)>::value_type;
-    if constexpr (std::is_integral_v<T>)
+    // Checkpoints of a single process written before the halo flag existed: every particle owned.
+    if (std::string(name) == "halo" && c.ints.count(name) == 0)
+      Kokkos::deep_copy(field, T(0));
+    else if constexpr (std::is_integral_v<T>)
       detail::from_vector(field, need(c.ints, name), name);
     else
       detail::from_vector(field, need(c.reals, name), name);
@@ -547,6 +550,85 @@ void Simulation<Law, ExecSpace>::exchange(const std::vector<std::int64_t>& remov
   restore(c);
   cfg_.resizable = resizable;
   rebuild(false);
+}
+
+} // namespace cgdem::kernels
+
+namespace cgdem::kernels {
+
+// The index and row buffers are kept between calls (a halo refresh runs every step) and grow only.
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::stage_state_rows(const std::vector<int>& index) {
+  const std::size_t count = index.size();
+  if (row_index_.extent(0) < count) {
+    row_index_ = Kokkos::View<int*, Mem>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "cgdem::kernels::row_index"), count);
+    row_buffer_ = Kokkos::View<double**, Kokkos::LayoutRight, Mem>(
+        Kokkos::view_alloc(Kokkos::WithoutInitializing, "cgdem::kernels::row_buffer"), count, kStateRowWidth);
+  }
+  Kokkos::View<const int*, Kokkos::HostSpace, Kokkos::MemoryUnmanaged> h_index(index.data(), count);
+  Kokkos::deep_copy(Kokkos::subview(row_index_, std::make_pair(std::size_t(0), count)), h_index);
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::read_state_rows(const std::vector<int>& index, std::vector<double>& rows) {
+  constexpr int W = kStateRowWidth;
+  const int count = static_cast<int>(index.size());
+  rows.resize(std::size_t(count) * W);
+  if (count == 0) return;
+  stage_state_rows(index);
+  const auto d_index = row_index_;
+  const auto d_rows = row_buffer_;
+  const ParticleStore<Mem> p = store_;
+  Kokkos::parallel_for(
+      "cgdem::read_state_rows", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(int k) {
+        const int i = d_index(k);
+        for (int a = 0; a < 3; ++a) {
+          d_rows(k, a) = p.position(i, a);
+          d_rows(k, 3 + a) = p.velocity(i, a);
+          d_rows(k, 6 + a) = p.angular_velocity(i, a);
+          d_rows(k, 9 + a) = p.force(i, a);
+          d_rows(k, 12 + a) = p.torque(i, a);
+        }
+      });
+  Kokkos::View<double**, Kokkos::LayoutRight, Kokkos::HostSpace, Kokkos::MemoryUnmanaged> h_rows(rows.data(),
+                                                                                                 count, W);
+  Kokkos::deep_copy(h_rows, Kokkos::subview(d_rows, std::make_pair(0, count), Kokkos::ALL));
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::write_state_rows(const std::vector<int>& index,
+                                                  const std::vector<double>& rows) {
+  constexpr int W = kStateRowWidth;
+  const int count = static_cast<int>(index.size());
+  if (rows.size() != std::size_t(count) * W)
+    throw std::invalid_argument("write_state_rows: " + std::to_string(rows.size()) + " values for " +
+                                std::to_string(count) + " particles");
+  if (count == 0) return;
+  stage_state_rows(index);
+  Kokkos::View<const double**, Kokkos::LayoutRight, Kokkos::HostSpace, Kokkos::MemoryUnmanaged> h_rows(
+      rows.data(), count, W);
+  Kokkos::deep_copy(Kokkos::subview(row_buffer_, std::make_pair(0, count), Kokkos::ALL), h_rows);
+  const auto d_index = row_index_;
+  const auto d_rows = row_buffer_;
+  const ParticleStore<Mem> p = store_;
+  Kokkos::parallel_for(
+      "cgdem::write_state_rows", Kokkos::RangePolicy<ExecSpace>(0, count), KOKKOS_LAMBDA(int k) {
+        const int i = d_index(k);
+        for (int a = 0; a < 3; ++a) {
+          p.position(i, a) = d_rows(k, a);
+          p.velocity(i, a) = d_rows(k, 3 + a);
+          p.angular_velocity(i, a) = d_rows(k, 6 + a);
+          p.force(i, a) = d_rows(k, 9 + a);
+          p.torque(i, a) = d_rows(k, 12 + a);
+        }
+      });
+  Kokkos::fence();
+}
+
+template <class Law, class ExecSpace>
+std::vector<std::int64_t> Simulation<Law, ExecSpace>::store_ids() {
+  return detail::to_ints(store_.id);
 }
 
 } // namespace cgdem::kernels

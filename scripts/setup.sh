@@ -17,7 +17,8 @@ apt_get() { DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get -y -q "$@"; 
 
 packages=(build-essential cmake ninja-build pkg-config dpkg-dev xz-utils clang-format
           libtbb-dev libeigen3-dev libhdf5-dev hdf5-tools libgtest-dev libgmock-dev libbenchmark-dev
-          libyaml-cpp-dev libassimp-dev python3-matplotlib python3-h5py python3-numpy)
+          libyaml-cpp-dev libassimp-dev libopenmpi-dev openmpi-bin
+          python3-matplotlib python3-h5py python3-numpy)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
