@@ -427,12 +427,12 @@ int run_command(const std::vector<std::string>& args) {
       stopped_early ? " (stop condition)" : "", steps, engine->size(), human_duration(wall).c_str(),
       particle_steps / wall, 100 * t.forces / timed, 100 * t.neighbor_list / timed, 100 * t.binning / timed,
       100 * t.integrate / timed,
-      distributed
-          ? (", MPI communication " + std::to_string(std::lround(100 * t.communication / timed)) +
-             "% (rank 0; particles per rank: largest " + std::to_string(std::lround(100 * t.load_imbalance)) +
-             "% above the mean, " + std::to_string(t.rebalances) + " rebalances)")
-                .c_str()
-          : "",
+      distributed ? (", MPI communication " + std::to_string(std::lround(100 * t.communication / timed)) +
+                     "% (the most of any rank; particles per rank: largest " +
+                     std::to_string(std::lround(100 * t.load_imbalance)) + "% above the mean, " +
+                     std::to_string(t.rebalances) + " rebalances)")
+                        .c_str()
+                  : "",
       t.list_builds, last.time, last.kinetic_energy, last.contacts, writer.path().c_str(),
       static_cast<long long>(writer.frames_written()), writer.xdmf_path().c_str());
   if (escapes.outside_now() > 0)

@@ -70,6 +70,8 @@ public:
   // The neighbour cut-off's widest reach between particle centres: twice the largest radius, the law's
   // interaction range and the skin.
   virtual double interaction_cutoff() const = 0;
+  // The largest displacement of a particle since the last list build (at the last half kick and drift).
+  virtual double displacement_since_build() const = 0;
   virtual double time() const = 0;
   virtual long step() const = 0;
   virtual int size() const = 0;

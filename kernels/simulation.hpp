@@ -143,6 +143,7 @@ public:
       history[k] = h[k];
   }
   double interaction_cutoff() const override { return 2 * max_radius_ + cutoff_extra_; }
+  double displacement_since_build() const override { return displacement_since_build_; }
   double time() const override { return time_; }
   long step() const override { return step_; }
   int size() const override { return n_; }

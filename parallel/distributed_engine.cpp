@@ -60,17 +60,39 @@ struct RowLayout {
     return l;
   }
 
-  // Appends particle i's row (absent arrays, as a halo flag in an old checkpoint, give zeros).
-  void append_row(const CheckpointData& c, std::size_t i, std::vector<double>& out) const {
+  // A checkpoint's arrays in layout order, looked up once (absent ones, as the halo flag in a checkpoint
+  // written before it existed, read as zeros).
+  struct Source {
+    std::vector<const double*> reals;
+    std::vector<const std::int64_t*> ints;
+  };
+  Source source(const CheckpointData& c) const {
+    Source src;
     for (const Field& f : fields) {
       if (f.integer) {
         auto it = c.ints.find(f.name);
-        for (std::size_t k = 0; k < f.width; ++k)
-          out.push_back(it == c.ints.end() ? 0.0 : static_cast<double>(it->second[i * f.width + k]));
+        src.ints.push_back(it == c.ints.end() ? nullptr : it->second.data());
+        src.reals.push_back(nullptr);
       } else {
         auto it = c.reals.find(f.name);
-        for (std::size_t k = 0; k < f.width; ++k)
-          out.push_back(it == c.reals.end() ? 0.0 : it->second[i * f.width + k]);
+        src.reals.push_back(it == c.reals.end() ? nullptr : it->second.data());
+        src.ints.push_back(nullptr);
+      }
+    }
+    return src;
+  }
+
+  // Appends particle i's row.
+  void append_row(const Source& src, std::size_t i, std::vector<double>& out) const {
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+      const Field& f = fields[k];
+      const std::size_t at = i * f.width;
+      if (f.integer) {
+        for (std::size_t w = 0; w < f.width; ++w)
+          out.push_back(src.ints[k] ? static_cast<double>(src.ints[k][at + w]) : 0.0);
+      } else {
+        for (std::size_t w = 0; w < f.width; ++w)
+          out.push_back(src.reals[k] ? src.reals[k][at + w] : 0.0);
       }
     }
   }
@@ -128,7 +150,7 @@ std::vector<double> all_gather(const std::vector<double>& mine, MPI_Comm comm) {
 class DistributedEngine final : public Engine {
 public:
   DistributedEngine(std::unique_ptr<Engine> whole, const Domain& domain, double skin)
-      : local_(std::move(whole)), domain_(domain) {
+      : local_(std::move(whole)), domain_(domain), skin_(skin) {
     MPI_Comm_rank(comm_, &rank_);
     MPI_Comm_size(comm_, &size_);
     // From the engine holding every particle, so every rank has the same width: twice the largest radius,
@@ -141,6 +163,12 @@ public:
     restore(c);
   }
 
+  // The ranks redistribute (and every rank rebuilds its list) once some particle anywhere has moved this
+  // much of the skin: a little before a rank's own engine would rebuild at half a skin, so that the build
+  // happens once, after the redistribution, rather than once before it and once after. A particle faster
+  // than 0.05 skin per step makes its rank rebuild on its own first, which only costs the second build.
+  static constexpr double kRedistributeAt = 0.45;
+
   void advance(long steps) override {
     for (long s = 0; s < steps; ++s) {
       refresh_halo();
@@ -149,7 +177,9 @@ public:
       std::string what;
       try {
         local_->advance(1);
-        if (local_->timers().list_builds != builds) status = 1;
+        if (local_->timers().list_builds != builds ||
+            local_->displacement_since_build() > kRedistributeAt * skin_)
+          status = 1;
       } catch (const BlowUpError& e) {
         status = 2;
         what = e.what();
@@ -233,10 +263,11 @@ public:
     decomposition_ = Decomposition::make(domain_, x, size_, halo_width_);
     std::vector<char> keep(n, 0);
     std::vector<double> rows;
+    const RowLayout::Source from = layout_.source(whole);
     for (std::size_t i = 0; i < n; ++i)
       if (decomposition_.near(&x[3 * i], rank_)) {
         keep[i] = 1;
-        layout_.append_row(whole, i, rows);
+        layout_.append_row(from, i, rows);
       }
     const std::vector<double> records =
         records_of(whole, [&](std::size_t i, std::size_t j) { return keep[i] && keep[j]; });
@@ -255,12 +286,15 @@ public:
   std::vector<std::int64_t> store_ids() override { return local_->store_ids(); }
   void flip_pair_history(double* h) const override { local_->flip_pair_history(h); }
   double interaction_cutoff() const override { return local_->interaction_cutoff(); }
+  double displacement_since_build() const override { return local_->displacement_since_build(); }
   double time() const override { return local_->time(); }
   long step() const override { return local_->step(); }
   int size() const override { return owned_total_; }
+  // Rank 0's timers, but the communication of the rank that spent the most in it: a rank waiting for a
+  // slower one (more particles, or a slower core) shows the imbalance there.
   StepTimers timers() const override {
     StepTimers t = local_->timers();
-    t.communication = communication_seconds_;
+    MPI_Allreduce(&communication_seconds_, &t.communication, 1, MPI_DOUBLE, MPI_MAX, comm_);
     t.load_imbalance = load_imbalance_;
     t.rebalances = rebalances_;
     return t;
@@ -337,11 +371,12 @@ private:
             v[k * f.width + w] = rows[order[k] * W + f.offset + w];
       }
     }
+    const std::vector<double>& position = c.reals["position"];
     auto& halo = c.ints["halo"];
     halo.assign(n, 0);
     if (owner >= 0)
       for (std::size_t k = 0; k < n; ++k)
-        halo[k] = decomposition_.rank_of(&c.reals["position"][3 * k]) != owner;
+        halo[k] = decomposition_.rank_of(&position[3 * k]) != owner;
     // The pairs whose two particles are both here, under the lower index (the lower id: rows are in id
     // order), partners ascending.
     const std::size_t RW = pairs_.width();
@@ -387,6 +422,7 @@ private:
     const auto& id = c.ints.at("id");
     const std::size_t n = id.size();
     rebalance_if_needed(halo, x);
+    const RowLayout::Source from = layout_.source(c);
     std::vector<std::vector<double>> rows(size_), records(size_);
     std::vector<std::vector<int>> dest(n);
     for (std::size_t i = 0; i < n; ++i) {
@@ -394,7 +430,7 @@ private:
       for (int r = 0; r < size_; ++r)
         if (decomposition_.near(&x[3 * i], r)) {
           dest[i].push_back(r);
-          layout_.append_row(c, i, rows[r]);
+          layout_.append_row(from, i, rows[r]);
         }
     }
     const std::size_t RW = pairs_.width();
@@ -425,8 +461,9 @@ private:
     const auto& halo = c.ints.at("halo");
     const auto& id = c.ints.at("id");
     std::vector<double> rows;
+    const RowLayout::Source from = layout_.source(c);
     for (std::size_t i = 0; i < halo.size(); ++i)
-      if (!halo[i]) layout_.append_row(c, i, rows);
+      if (!halo[i]) layout_.append_row(from, i, rows);
     const std::vector<double> mine =
         records_of(c, [&](std::size_t i, std::size_t j) { return halo[id[i] < id[j] ? i : j] == 0; });
     return assemble(all_gather(rows, comm_), all_gather(mine, comm_), -1, c);
@@ -530,6 +567,7 @@ private:
   RowLayout layout_;
   PairRecords pairs_;
   Domain domain_;
+  double skin_ = 0;
   double halo_width_ = 0;
   Decomposition decomposition_;
   std::vector<std::vector<int>> send_index_, recv_index_;
