@@ -111,6 +111,9 @@ Examples:
   cgdem run scenes/settled_bed.yaml --threads 1 --backend serial --out serial.h5
   cgdem run scenes/pile_in_cylinder.yaml --checkpoint-every 0.1
   cgdem run scenes/pile_in_cylinder.yaml --restart pile_in_cylinder.checkpoint.h5
+  mpirun -np 4 cgdem run scenes/settled_bed.yaml --threads 1
+      (4 MPI ranks, each on its brick of the domain: the same result file, the trajectory to round-off;
+      a checkpoint of N ranks restarts on M; docs/mpi.md)
 )";
 }
 
