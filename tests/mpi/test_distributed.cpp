@@ -19,33 +19,10 @@
 #include "parallel/distributed_engine.hpp"
 #include "parallel/mpi_session.hpp"
 #include "setup/time_step.hpp"
+#include "tests/bed_scene.hpp"
 
 namespace cgdem::testing {
 namespace {
-
-// The shared 10k bed under a floor rising at 5 cm/s, periodic in x and y: contacts close and open, the
-// lists are rebuilt and particles cross rank boundaries and the periodic faces.
-const std::string kBed =
-    R"(domain: {lo: [0, 0, 0], hi: [0.02031, 0.02031, 0.04], periodic: [true, true, false]}
-gravity: [0, 0, -9.81]
-materials:
-  beads: {density: 2500, youngs_modulus: 5.0e6, poisson_ratio: 0.3, restitution: 0.9, friction: 0.3}
-contact: {normal: hertz, tangential: mindlin}
-groups:
-  - name: bed
-    material: beads
-    placement: {type: file, file: )" CGDEM_SHARED_DIR R"(/data/settled_bed_10k.csv}
-walls:
-  - name: floor
-    type: plane
-    material: beads
-    point: [0, 0, 0]
-    normal: [0, 0, 1]
-    motion: {velocity: [0, 0, 0.05]}
-time: {end: 0.01, step: 1.0e-5}
-output: {every: 0.01, file: bed.h5}
-stability: {overlap_tolerance: 0.05}
-)";
 
 // The scene's engine configuration; `adjust` may change the particles first (initial velocities).
 template <class Adjust = void (*)(ParticleSet&)>
@@ -94,7 +71,7 @@ std::string test_dir() {
 }
 
 TEST(Distributed, BedMatchesOneProcessOver1000Steps) {
-  const EngineConfig c = config_of(kBed);
+  const EngineConfig c = config_of(kBedScene);
   auto one = make_engine(c, "openmp");
   auto many = distributed(c);
   EXPECT_EQ(many->size(), one->size());
@@ -247,7 +224,7 @@ std::string checkpoint_file() {
 
 TEST(DistributedRestart, Write) {
   if (ranks() != 2) GTEST_SKIP() << "written by the 2-rank run";
-  auto many = distributed(config_of(kBed));
+  auto many = distributed(config_of(kBedScene));
   many->advance(500);
   const CheckpointData c = many->checkpoint();
   if (parallel::world_rank() == 0) write_checkpoint(checkpoint_file(), c);
@@ -256,7 +233,7 @@ TEST(DistributedRestart, Write) {
 
 TEST(DistributedRestart, Read) {
   if (ranks() != 4) GTEST_SKIP() << "read by the 4-rank run";
-  const EngineConfig c = config_of(kBed);
+  const EngineConfig c = config_of(kBedScene);
   auto one = make_engine(c, "openmp");
   one->advance(1000);
   auto many = distributed(c);
