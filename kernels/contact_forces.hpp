@@ -354,21 +354,22 @@ struct ContactForces {
   // `cleared`: the store's forces, torques and contact counts are zero already (the integrator's pass
   // zeroed them); otherwise the blocks path zeroes them first (the pairs path writes every sum whole).
   // The pairs path indexes the list's partner slots first if this build has not (NeighborList).
+  // Returns whether blocks.block_worker now holds which worker ran each block (the ordered schedule).
   template <class NeighborListT>
-  static void compute(const ParticleStore<Mem>& p, NeighborListT& nl, const ForceBlocks<ExecSpace>& blocks,
+  static bool compute(const ParticleStore<Mem>& p, NeighborListT& nl, const ForceBlocks<ExecSpace>& blocks,
                       const Inputs& in, Law law, int n, bool cleared = false, Path path = kDefaultPath,
                       Schedule schedule = kDefaultSchedule) {
     if (path == Path::pairs) {
       nl.index_partner_slots(n);
       compute_by_pairs(p, nl, in, law, n);
-    } else {
-      compute_by_blocks(p, nl, blocks, in, law, n, cleared, schedule);
+      return false;
     }
+    return compute_by_blocks(p, nl, blocks, in, law, n, cleared, schedule);
   }
 
   // The blocks path (see the top of this file).
   template <class NeighborListT>
-  static void compute_by_blocks(const ParticleStore<Mem>& p, const NeighborListT& nl,
+  static bool compute_by_blocks(const ParticleStore<Mem>& p, const NeighborListT& nl,
                                 const ForceBlocks<ExecSpace>& blocks, const Inputs& in, Law law, int n,
                                 bool cleared, Schedule schedule) {
     const Domain domain = in.domain;
@@ -561,6 +562,7 @@ struct ContactForces {
         const auto after = blocks.block_after;
         const auto done = blocks.block_done;
         const auto claimed = blocks.blocks_claimed;
+        const auto worker_of = blocks.block_worker;
         Kokkos::parallel_for(
             "cgdem::kernels::contact_forces_unclaim", Kokkos::RangePolicy<ExecSpace>(0, nblocks),
             KOKKOS_LAMBDA(int b) {
@@ -570,9 +572,10 @@ struct ContactForces {
         // One iteration per worker, each claiming blocks until none is left.
         Kokkos::parallel_for(
             "cgdem::kernels::contact_forces", Kokkos::RangePolicy<ExecSpace>(0, ExecSpace::concurrency()),
-            KOKKOS_LAMBDA(int) {
+            KOKKOS_LAMBDA(int worker) {
               for (int b = Kokkos::atomic_fetch_add(&claimed(), 1); b < nblocks;
                    b = Kokkos::atomic_fetch_add(&claimed(), 1)) {
+                worker_of(b) = worker;
                 // Spin, then leave the core to others (a machine running more threads than cores).
                 for (int k = after_offsets(b); k < after_offsets(b + 1); ++k)
                   for (int spins = 0; Kokkos::atomic_fetch_add(&done(after(k)), 0) == 0; ++spins)
@@ -583,7 +586,7 @@ struct ContactForces {
                 Kokkos::atomic_exchange(&done(b), 1);
               }
             });
-        return;
+        return true;
       }
     // The colours in turn; inside one, the blocks in parallel in dynamic chunks (the work per block varies
     // with its contacts and walls, and which thread takes a block does not change any sum).
@@ -594,6 +597,7 @@ struct ContactForces {
       Kokkos::parallel_for("cgdem::kernels::contact_forces", DynamicRange(first, last).set_chunk_size(1),
                            block_forces);
     }
+    return false;
   }
 
   // The pairs path (see the top of this file): a pass over the owners writes each pair's terms to its slot

@@ -43,12 +43,17 @@ struct ForceBlocks {
   // The ordered schedule's state during a pass: which blocks are done, how many are claimed.
   Kokkos::View<int*, Mem> block_done;
   Kokkos::View<int, Mem> blocks_claimed{"cgdem::kernels::blocks_claimed"};
+  // Which worker of the ordered schedule ran each block on the last force pass, so that the integrator
+  // can give each worker the particles whose forces it has just written (Integrator::kick_drift): on a
+  // host those lines are still in the writer's core's cache. Valid while claims_recorded; a build clears it.
+  Kokkos::View<int*, Mem> block_worker;
+  bool claims_recorded = false;
   int listed_strips[3] = {}; // the y and z strip counts the blocks were ordered for (0: not yet)
   std::vector<int> block_strip_y, block_strip_z; // host: each block's strips, in the claim order
 
   std::size_t bytes() const {
     return (block_offsets.span() + block_members.span() + block_after_offsets.span() + block_after.span() +
-            block_done.span()) *
+            block_done.span() + block_worker.span()) *
            sizeof(int);
   }
 
@@ -85,6 +90,7 @@ struct ForceBlocks {
   // other, each colour's blocks in parallel. `bins` must be the bins of the build (after a restart: of
   // position_at_build).
   void build(const Domain& domain, const CellGrid& grid, const CellBins<ExecSpace>& bins, int n) {
+    claims_recorded = false;
     const int nx = grid.dims[0], ny = grid.dims[1];
     // Strip k of axis a (1: y, 2: z): cells [edge(a, k), edge(a, k + 1)) of the occupied range [lo, hi],
     // the outer strips extended to the domain's ends. A periodic axis: all of it (its strips pair up
@@ -214,6 +220,7 @@ struct ForceBlocks {
     block_after_offsets = Kokkos::View<int*, Mem>("cgdem::kernels::block_after_offsets", nblocks + 1);
     block_after = Kokkos::View<int*, Mem>("cgdem::kernels::block_after", after.size());
     block_done = Kokkos::View<int*, Mem>("cgdem::kernels::block_done", nblocks);
+    block_worker = Kokkos::View<int*, Mem>("cgdem::kernels::block_worker", nblocks);
     auto h_offs = Kokkos::create_mirror_view(block_after_offsets);
     auto h_after = Kokkos::create_mirror_view(block_after);
     for (int bl = 0; bl <= nblocks; ++bl)

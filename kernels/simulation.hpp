@@ -72,7 +72,7 @@ public:
     for (long s = 0; s < steps; ++s) {
       timer.reset();
       const Real max_d2 = Integrator<ExecSpace>::kick_drift(store_, cfg_.domain, cfg_.gravity, cfg_.dt, n_,
-                                                            closing_pending, /*clear_forces=*/true);
+                                                            closing_pending, /*clear_forces=*/true, &blocks_);
       timers_.integrate += timer.seconds();
       if (!(max_d2 < Kokkos::Experimental::infinity<Real>::value))
         throw BlowUpError(diagnose("a position or velocity became NaN or Inf"));

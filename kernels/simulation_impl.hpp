@@ -152,7 +152,9 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool cl
   in.reach = cfg_.reach;
   in.max_radius = max_radius_;
   in.max_displacement = displacement_since_build_;
-  Forces::compute(store_, nl_, blocks_, in, Law{}, n_, cleared, force_path_);
+  // On one thread the integrator's even split is the store in order: nothing to follow.
+  const bool claims = Forces::compute(store_, nl_, blocks_, in, Law{}, n_, cleared, force_path_);
+  blocks_.claims_recorded = claims && ExecSpace::concurrency() > 1;
   Kokkos::fence();
   timers_.forces += timer.seconds();
 }

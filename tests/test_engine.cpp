@@ -85,6 +85,7 @@ BuiltList build_list(const ParticleSet& p, const Domain& domain, double skin, do
   const int n = static_cast<int>(p.size());
   BuiltList b{Kokkos::View<double* [3], Kokkos::HostSpace>("x", n),
               Kokkos::View<double*, Kokkos::HostSpace>("r", n),
+              {},
               {}};
   Kokkos::View<int*, Kokkos::HostSpace> identity("identity", n);
   for (int i = 0; i < n; ++i) {
