@@ -347,7 +347,7 @@ struct ContactForces {
     Real dt = 0;
     Real reach = 0;            // the law's longest interaction range beyond contact
     Real max_radius = 0;       // of the particles in the store
-    Real max_displacement = 0; // the largest displacement of a particle since the list was built
+    Real max_displacement = 0; // the largest displacement of a particle since the list was built (so far)
   };
 
   // Evaluate all contact forces into store.force / store.torque (and in.wall_force when it has extent).
@@ -383,6 +383,8 @@ struct ContactForces {
     const auto gaps = nl.gap;
     // No particle moved more than max_displacement since the build: a slot whose gap at the build is
     // larger than twice that is still beyond reach, and so are the slots after it (NeighborList::gap).
+    // A skipped slot keeps its history as it was: zero, as long as the caller's max_displacement never
+    // shrinks between builds (a pair that came within reach is then never skipped again).
     const Real skip_beyond = 2 * max_displacement * (1 + 1e-6);
     // A slot's history row, H apart (like load3, without the View's runtime stride).
     KOKKOS_ASSERT(H == 0 || history.stride(0) == static_cast<std::size_t>(H));

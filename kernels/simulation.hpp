@@ -77,6 +77,10 @@ public:
       if (!(max_d2 < Kokkos::Experimental::infinity<Real>::value))
         throw BlowUpError(diagnose("a position or velocity became NaN or Inf"));
       displacement_since_build_ = std::sqrt(max_d2);
+      // The largest since the build, not this step's: a pair the force pass once found within reach is
+      // then never skipped again before the next build, so that its history is cleared when it parts
+      // (ContactForces skips a slot whole, history included).
+      skip_displacement_ = std::max(skip_displacement_, displacement_since_build_);
       // A particle and a mesh may each move skin/2 before a contact could be missing from the lists.
       if (4 * max_d2 > cfg_.skin * cfg_.skin ||
           (!meshes_.empty() && 2 * meshes_.motion_since_build(cfg_.walls, (step_ + 1) * cfg_.dt) > cfg_.skin))
@@ -199,6 +203,7 @@ private:
   // The largest displacement of a particle since the list was built (the force pass skips pairs still
   // beyond reach, NeighborList::gap).
   Real displacement_since_build_ = 0;
+  Real skip_displacement_ = 0; // the largest displacement_since_build_ since the build
   long builds_ = 0;
   long step_ = 0;
   double time_ = 0;

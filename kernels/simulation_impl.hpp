@@ -121,6 +121,7 @@ void Simulation<Law, ExecSpace>::rebuild(bool first) {
     meshes_.build(grid_, store_.position, store_.radius, n_, max_radius_, cutoff_extra_, time_);
   }
   displacement_since_build_ = 0;
+  skip_displacement_ = 0;
   Kokkos::deep_copy(ExecSpace(), store_.position_at_build, store_.position);
   Kokkos::fence();
   timers_.neighbor_list += timer.seconds();
@@ -151,7 +152,7 @@ void Simulation<Law, ExecSpace>::compute_forces(bool record_wall_forces, bool cl
   in.dt = cfg_.dt;
   in.reach = cfg_.reach;
   in.max_radius = max_radius_;
-  in.max_displacement = displacement_since_build_;
+  in.max_displacement = skip_displacement_;
   // On one thread the integrator's even split is the store in order: nothing to follow.
   const bool claims = Forces::compute(store_, nl_, blocks_, in, Law{}, n_, cleared, force_path_);
   blocks_.claims_recorded = claims && ExecSpace::concurrency() > 1;
@@ -364,6 +365,7 @@ CheckpointData Simulation<Law, ExecSpace>::checkpoint() {
   c.scalars["num_slots"] = nl_.num_slots;
   c.scalars["history_size"] = H;
   c.scalars["mesh_built_at"] = meshes_.built_at();
+  c.scalars["skip_displacement"] = skip_displacement_;
   ParticleStore<Mem>::for_each_field(store_, [&c](const char* name, const auto& field) {
     using T = typename std::decay_t<decltype(field)>::value_type;
     if constexpr (std::is_integral_v<T>)
@@ -453,6 +455,10 @@ void Simulation<Law, ExecSpace>::restore(const CheckpointData& c) {
   nl_.compute_gaps(cfg_.domain, store_.position_at_build, store_.radius, cfg_.reach, n_);
   // Unknown until the next kick_drift measures it: skip nothing on a force pass before that.
   displacement_since_build_ = Kokkos::Experimental::infinity<Real>::value;
+  // The force pass's skipping goes on from the largest displacement the run had seen since its build (a
+  // checkpoint without it, one gathered over MPI ranks or older: skip nothing until the next build).
+  const auto skip = c.scalars.find("skip_displacement");
+  skip_displacement_ = skip != c.scalars.end() ? skip->second : Kokkos::Experimental::infinity<Real>::value;
   // The force pass's blocks from the cells the list was built with (positions at the build).
   bins_.build(grid_, store_.position_at_build, n_);
   blocks_.build(cfg_.domain, grid_, bins_, n_);
