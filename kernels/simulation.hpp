@@ -200,10 +200,12 @@ private:
   typename ContactForces<ExecSpace, Law>::Path force_path_ = ContactForces<ExecSpace, Law>::kDefaultPath;
   Real cutoff_extra_ = 0;
   Real max_radius_ = 0; // of the particles now in the store (the force pass's seam test)
-  // The largest displacement of a particle since the list was built (the force pass skips pairs still
-  // beyond reach, NeighborList::gap).
+  // The largest displacement of a particle from its place at the list's build, at the last kick and drift
+  // (the rebuild test, and the MPI ranks' redistribution test).
   Real displacement_since_build_ = 0;
-  Real skip_displacement_ = 0; // the largest displacement_since_build_ since the build
+  // Its largest value since the build: the force pass skips the pairs still beyond reach against it
+  // (NeighborList::gap).
+  Real skip_displacement_ = 0;
   long builds_ = 0;
   long step_ = 0;
   double time_ = 0;
