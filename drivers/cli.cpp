@@ -93,10 +93,15 @@ Options:
   --threads N            OpenMP threads (default: all cores)
   --backend NAME         openmp | serial | cuda, as compiled (see 'cgdem info'); trajectories are bitwise
                          identical across backends and thread counts
-  --checkpoint-every T   write the full restart state every T simulated seconds to FILE.checkpoint.h5
-                         (atomically: a kill never leaves a half-written checkpoint)
+  --checkpoint-every T   write the full restart state every T simulated seconds and at the run's end to
+                         FILE.checkpoint.h5 (atomically: a kill never leaves a half-written checkpoint)
   --restart FILE         continue from a checkpoint; the continuation is bitwise identical to an
-                         uninterrupted run
+                         uninterrupted run. The scene may differ from the checkpoint's in what is not
+                         particle state (materials, wall and outlet positions and motions, time.end):
+                         a second stage, e.g. a bed poured with low friction and then compressed
+                         (sweeps/hu_compression_paper.sh); the contact law, walls, inlets, outlets and
+                         analyses must be the same, and the particle count unless inlets or outlets
+                         change it
   --quiet                no progress line
 
 Exit codes: 0 done, 2 bad input (one line naming the file, key and fix; also an output path that cannot

@@ -393,6 +393,9 @@ int run_command(const std::vector<std::string>& args) {
                      human_duration(eta).c_str(), interactive ? "" : "\n");
       }
     }
+    // The checkpoint holds the run's last step too (its end, or where `stop` ended it), so that a finished
+    // run can be continued to a later end or start a second stage (--restart with another scene state).
+    if (checkpoint_every > 0 && engine->step() % checkpoint_every != 0) checkpoint();
     try {
       if (writer_ptr) writer_ptr->flush();
     } catch (const std::runtime_error& e) {

@@ -145,6 +145,36 @@ TEST_F(CliTest, SetOverridesNestedKeysAndListItems) {
   EXPECT_NE(r.err.find("groups.3"), std::string::npos) << r.err;
 }
 
+// A run's checkpoint holds its last step even when the end is not a multiple of --checkpoint-every, so a
+// finished run continues to a later end, and a second stage may change what is not particle state.
+TEST_F(CliTest, CheckpointHoldsTheLastStepAndStartsASecondStage) {
+  write("base.yaml", drop_scene);
+  const auto steps_done = [](const std::string& err) {
+    std::smatch m;
+    return std::regex_search(err, m, std::regex("done: ([0-9]+) steps")) ? std::stol(m[1]) : -1L;
+  };
+  ASSERT_EQ(cgdem("run base.yaml --threads 1 --out full.h5").code, 0);
+  const Result first =
+      cgdem("run base.yaml --threads 1 --out first.h5 --set time.end=0.017 --checkpoint-every 0.01");
+  ASSERT_EQ(first.code, 0) << first.err;
+  EXPECT_EQ(steps_done(first.err), 3400);
+  const Result rest = cgdem("run base.yaml --threads 1 --out rest.h5 --restart first.checkpoint.h5");
+  ASSERT_EQ(rest.code, 0) << rest.err;
+  EXPECT_EQ(steps_done(rest.err), 8000 - 3400); // from 0.017 s, not from the checkpoint at 0.01 s
+  const Result softer = cgdem("run base.yaml --threads 1 --out softer.h5 --restart first.checkpoint.h5 "
+                              "--set materials.beads.restitution=0.2");
+  ASSERT_EQ(softer.code, 0) << softer.err;
+  hid_t a = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t b = H5Fopen((dir / "rest.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t c = H5Fopen((dir / "softer.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const auto full = read_doubles(a, last_frame(a) + "/velocity");
+  EXPECT_TRUE(full == read_doubles(b, last_frame(b) + "/velocity"));  // bitwise
+  EXPECT_FALSE(full == read_doubles(c, last_frame(c) + "/velocity")); // the second stage's restitution acts
+  H5Fclose(a);
+  H5Fclose(b);
+  H5Fclose(c);
+}
+
 TEST_F(CliTest, RestartFromCheckpointEqualsUninterruptedRunBitwise) {
   write("base.yaml", drop_scene);
   ASSERT_EQ(cgdem("run base.yaml --quiet --threads 1 --out full.h5").code, 0);
