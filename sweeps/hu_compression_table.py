@@ -1,0 +1,144 @@
+#!/usr/bin/python3
+"""Table and stress-strain plot of Hu's compression at the paper's size (sweeps/hu_compression_paper.sh).
+
+    /usr/bin/python3 sweeps/hu_compression_table.py OUT [--strains 0.05,0.1]
+
+Reads every finished run OUT/runs/<method>_l<l>_s<seed>/ (compress.done): the piston's stress against strain
+from compress*.h5 (/series/stress, /series/stress_strain), the particle count after the cut, and the CPU
+seconds of both stages (cpu.txt). Per method and scale factor over the seeds: the stress at each strain
+(mean +- standard deviation), its error against the originals' mean, the scatter (the seed-to-seed standard
+deviations of both, combined: sqrt(sd^2 + sd_orig^2) / orig mean) and whether the error lies within it, and
+the speed-up in CPU time against the originals' mean. Writes OUT/summary.csv, OUT/table.md and
+OUT/stress_strain.png (one panel per method, Hu's Fig. 3: the originals against l = 2 and 4, each the mean
+curve over its seeds with its min-max band).
+"""
+import argparse
+import glob
+import math
+import os
+import re
+import sys
+
+try:
+    import h5py
+    import numpy as np
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
+    sys.exit(f"hu_compression_table.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-matplotlib)")
+
+NAMES = {"none": "original", "hu_method1": "Method 1", "hu_method2": "Method 2", "hu_method3": "Method 3"}
+
+
+def read_run(d):
+    """Strain and stress over the compression (pieces of several sittings pooled), particles, CPU seconds."""
+    t, strain, stress = [], [], []
+    particles = None
+    pieces = sorted(glob.glob(os.path.join(d, "compress.part*.h5"))) + [os.path.join(d, "compress.h5")]
+    for path in pieces:
+        if not os.path.exists(path):
+            continue
+        with h5py.File(path, "r") as f:
+            s = f["series"]
+            for a, b, c in zip(s["time"][:], s["stress_strain"][:], s["stress"][:]):
+                if t and a <= t[-1] + 1e-9:
+                    continue  # a continuation repeats its checkpoint's frame
+                t.append(a)
+                strain.append(b)
+                stress.append(c)
+            particles = int(s["particles"][-1])
+    cpu = 0.0
+    with open(os.path.join(d, "cpu.txt")) as f:
+        for line in f:
+            _, user, system, _wall = line.split()
+            cpu += float(user) + float(system)
+    strain, stress = np.array(strain), np.array(stress)
+    ok = np.isfinite(strain)
+    return strain[ok], stress[ok], particles, cpu
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out")
+    ap.add_argument("--strains", default="0.05,0.1")
+    a = ap.parse_args()
+    strains = [float(x) for x in a.strains.split(",")]
+    runs = {}
+    for d in sorted(glob.glob(os.path.join(a.out, "runs", "*"))):
+        m = re.fullmatch(r"(.+)_l(\d+)_s(\d+)", os.path.basename(d))
+        if not m or not os.path.exists(os.path.join(d, "compress.done")):
+            continue
+        runs.setdefault((m.group(1), int(m.group(2))), []).append((int(m.group(3)), read_run(d)))
+    if not runs:
+        sys.exit(f"hu_compression_table.py: no finished run in {a.out}/runs")
+
+    stats = {}
+    for key, seeds in runs.items():
+        at = np.array([[np.interp(e, r[0], r[1], left=np.nan, right=np.nan) for e in strains] for _, r in seeds])
+        stats[key] = {
+            "seeds": len(seeds),
+            "particles": int(np.mean([r[2] for _, r in seeds])),
+            "cpu": float(np.mean([r[3] for _, r in seeds])),
+            "mean": at.mean(axis=0),
+            "sd": at.std(axis=0, ddof=1) if len(seeds) > 1 else np.full(len(strains), np.nan),
+        }
+    ref = stats.get(("none", 1))
+    order = sorted(stats, key=lambda k: (k[0] != "none", k[0], k[1]))
+    header = ["method", "l", "seeds", "particles", "CPU s per run", "speed-up (CPU)"]
+    for e in strains:
+        header += [f"stress at {e:g} (Pa)", "error", "scatter", "within"]
+    rows = []
+    for key in order:
+        s = stats[key]
+        row = [NAMES.get(key[0], key[0]), str(key[1]), str(s["seeds"]), f"{s['particles']:,}", f"{s['cpu']:.0f}"]
+        row.append(f"{ref['cpu'] / s['cpu']:.1f}" if ref else "")
+        for i in range(len(strains)):
+            row.append(f"{s['mean'][i]:.4g} +- {s['sd'][i]:.2g}" if s["seeds"] > 1 else f"{s['mean'][i]:.4g}")
+            if ref and key != ("none", 1):
+                err = s["mean"][i] / ref["mean"][i] - 1
+                sd_r = ref["sd"][i] if ref["seeds"] > 1 else 0.0
+                scatter = math.sqrt(np.nan_to_num(s["sd"][i]) ** 2 + sd_r**2) / ref["mean"][i]
+                within = "yes" if abs(err) <= scatter else "no"
+                row += [f"{100 * err:+.1f} %", f"{100 * scatter:.1f} %", within]
+            else:
+                row += ["", "", ""]
+        rows.append(row)
+    with open(os.path.join(a.out, "summary.csv"), "w") as f:
+        f.write(",".join(h.replace(",", "") for h in header) + "\n")
+        for r in rows:
+            f.write(",".join(c.replace(",", "") for c in r) + "\n")
+    with open(os.path.join(a.out, "table.md"), "w") as f:
+        f.write("| " + " | ".join(header) + " |\n|" + "---|" * len(header) + "\n")
+        for r in rows:
+            f.write("| " + " | ".join(r) + " |\n")
+    print(open(os.path.join(a.out, "table.md")).read(), end="")
+
+    methods = sorted({k[0] for k in stats if k[0] != "none"})
+    fig, axes = plt.subplots(1, max(1, len(methods)), figsize=(4.2 * max(1, len(methods)), 3.8), squeeze=False)
+    grid = np.linspace(0, max(strains) * 1.1, 120)
+    colours = {1: "k", 2: "tab:blue", 4: "tab:orange", 8: "tab:green"}
+    for ax, method in zip(axes[0], methods or ["none"]):
+        for key in [("none", 1)] + sorted(k for k in stats if k[0] == method):
+            if key not in runs:
+                continue
+            curves = np.array([np.interp(grid, r[0], r[1], left=np.nan, right=np.nan) for _, r in runs[key]])
+            label = "original" if key[0] == "none" else f"l = {key[1]}"
+            c = colours.get(key[1], None)
+            ax.plot(grid, curves.mean(axis=0) / 1e3, color=c, label=f"{label} ({len(curves)} seeds)")
+            if len(curves) > 1:
+                ax.fill_between(grid, curves.min(axis=0) / 1e3, curves.max(axis=0) / 1e3, color=c, alpha=0.2, lw=0)
+        ax.set_title(NAMES.get(method, method))
+        ax.set_xlabel("strain")
+        ax.set_ylabel("piston stress (kPa)")
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    fig.suptitle("Hu's compression, 14 x 14 mm, 50 mm bed: mean over seeds, min-max band")
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "stress_strain.png"), dpi=110)
+    print(f"hu_compression_table.py: wrote {a.out}/table.md, summary.csv and stress_strain.png")
+
+
+if __name__ == "__main__":
+    main()
