@@ -164,6 +164,12 @@ TEST_F(CliTest, CheckpointHoldsTheLastStepAndStartsASecondStage) {
   const Result softer = cgdem("run base.yaml --threads 1 --out softer.h5 --restart first.checkpoint.h5 "
                               "--set materials.beads.restitution=0.2");
   ASSERT_EQ(softer.code, 0) << softer.err;
+  // The periodic sides removed (the sample set free): the pairs across the former seam simply part.
+  const Result free =
+      cgdem("run base.yaml --threads 1 --out free.h5 --restart first.checkpoint.h5 --set "
+            "'domain={lo: [-0.01, -0.01, 0], hi: [0.02, 0.02, 0.03], periodic: [false, false, false]}'");
+  ASSERT_EQ(free.code, 0) << free.err;
+  EXPECT_EQ(free.err.find("outside the domain"), std::string::npos) << free.err;
   hid_t a = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   hid_t b = H5Fopen((dir / "rest.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   hid_t c = H5Fopen((dir / "softer.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
