@@ -313,6 +313,9 @@ struct Sweep {
     const fs::path checkpoint = rundir / "run.checkpoint.h5";
     const bool resume = o.checkpoint_every > 0 && fs::exists(checkpoint);
     Pieces pieces;
+    const bool staged = !o.first_stage.empty();
+    const fs::path stage_done = rundir / "first_stage.done",
+                   stage_checkpoint = rundir / "first_stage.checkpoint.h5";
     if (resume) {
       pieces = continue_pieces(rundir, checkpoint);
       // The earlier pieces' frames stay beside the continuation's, which writes run.h5 afresh.
@@ -322,23 +325,9 @@ struct Sweep {
       std::error_code ec;
       fs::rename(h5, rundir / ("run.part" + std::to_string(part) + ".h5"), ec);
       fs::rename(xdmf_path_for(h5), rundir / ("run.part" + std::to_string(part) + ".xdmf"), ec);
-    } else {
+    } else if (!(staged && (fs::exists(stage_done) || fs::exists(stage_checkpoint)))) {
       fs::remove_all(rundir);
       fs::create_directories(rundir);
-    }
-    start_piece(rundir, resume ? pieces.last_step : 0);
-    std::vector<std::string> argv{exe,     "run", scene_abs, "--quiet", "--threads", std::to_string(threads),
-                                  "--out", h5};
-    for (const auto& s : o.overrides)
-      argv.insert(argv.end(), {"--set", s});
-    for (const auto& s : plan.sets)
-      argv.insert(argv.end(), {"--set", s});
-    if (o.checkpoint_every > 0) argv.insert(argv.end(), {"--checkpoint-every", fmt(o.checkpoint_every)});
-    if (resume) {
-      argv.insert(argv.end(), {"--restart", checkpoint.string()});
-      std::lock_guard<std::mutex> lock(print);
-      std::fprintf(stderr, "sweep: %s continues from its checkpoint at step %ld (piece %d)\n",
-                   plan.run.c_str(), pieces.last_step, pieces.count + 1);
     }
     std::vector<std::string> env;
     for (char** e = environ; *e; ++e) {
@@ -349,14 +338,78 @@ struct Sweep {
     }
     // One single-threaded run per core: Kokkos' default pinning would put them all on the first core.
     if (unpin) env.push_back("OMP_PROC_BIND=false");
+    std::vector<std::string> argv{exe,     "run", scene_abs, "--quiet", "--threads", std::to_string(threads),
+                                  "--out", h5};
+    for (const auto& s : o.overrides)
+      argv.insert(argv.end(), {"--set", s});
+    for (const auto& s : plan.sets)
+      argv.insert(argv.end(), {"--set", s});
+
+    // The first stage, once: its wall and CPU seconds go to first_stage_time.txt and count with the run's.
+    // One continued from its checkpoint counts its last piece only.
+    double stage_wall = 0, stage_cpu = 0;
+    if (staged && !fs::exists(stage_done)) {
+      std::vector<std::string> first = argv;
+      *(std::find(first.begin(), first.end(), "--out") + 1) = (rundir / "first_stage.h5").string();
+      for (const auto& s : o.first_stage)
+        first.insert(first.end(), {"--set", s});
+      // Its last step is always checkpointed (cgdem run writes the run's end too).
+      first.insert(first.end(), {"--checkpoint-every",
+                                 fmt(o.checkpoint_every > 0 ? o.checkpoint_every : o.first_stage_end)});
+      const bool continued = fs::exists(stage_checkpoint);
+      if (continued) first.insert(first.end(), {"--restart", stage_checkpoint.string()});
+      const auto start = std::chrono::steady_clock::now();
+      const int status = spawn_and_wait(first, env, rundir.string(), log, continued, &stage_cpu);
+      stage_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      if (!WIFEXITED(status)) {
+        std::lock_guard<std::mutex> lock(print);
+        std::fprintf(stderr,
+                     "sweep: run %s was killed in its first stage (signal %d); it will run again next time\n",
+                     plan.run.c_str(), WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+        return false;
+      }
+      if (WEXITSTATUS(status) != 0) {
+        RunRecord r;
+        r.run = plan.run;
+        r.law = plan.law;
+        r.k = plan.k;
+        r.seed = plan.seed;
+        r.threads = threads;
+        r.mass = plan.mass;
+        r.exit_code = WEXITSTATUS(status);
+        r.status = "failed in the first stage (exit " + std::to_string(r.exit_code) + ")";
+        write_record(record_path(plan.run).string(), r);
+        const int n = ++done;
+        std::lock_guard<std::mutex> lock(print);
+        std::fprintf(stderr, "[%d/%d] %s: %s; last lines of %s:\n%s", n, total, plan.run.c_str(),
+                     r.status.c_str(), log.c_str(), tail(log, 4).c_str());
+        return true;
+      }
+      std::ofstream(rundir / "first_stage_time.txt") << fmt(stage_wall) << " " << fmt(stage_cpu) << "\n";
+      std::ofstream(stage_done).flush();
+    } else if (staged) {
+      std::ifstream(rundir / "first_stage_time.txt") >> stage_wall >> stage_cpu;
+    }
+
+    start_piece(rundir, resume ? pieces.last_step : 0);
+    if (o.checkpoint_every > 0) argv.insert(argv.end(), {"--checkpoint-every", fmt(o.checkpoint_every)});
+    if (resume) {
+      argv.insert(argv.end(), {"--restart", checkpoint.string()});
+      std::lock_guard<std::mutex> lock(print);
+      std::fprintf(stderr, "sweep: %s continues from its checkpoint at step %ld (piece %d)\n",
+                   plan.run.c_str(), pieces.last_step, pieces.count + 1);
+    } else if (staged) {
+      argv.insert(argv.end(), {"--restart", stage_checkpoint.string()});
+    }
     const auto start = std::chrono::steady_clock::now();
     double cpu = 0;
-    const int status = spawn_and_wait(argv, env, rundir.string(), log, resume, &cpu);
+    const int status = spawn_and_wait(argv, env, rundir.string(), log, resume || staged, &cpu);
     const double piece_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     // Earlier pieces count up to their last checkpoint (the work after it was lost and is done again);
     // their CPU time, not measured, is taken at this piece's CPU-to-wall ratio.
-    const double wall = piece_wall + pieces.wall;
+    const double wall = piece_wall + pieces.wall + stage_wall;
     if (pieces.wall > 0 && piece_wall > 0) cpu += pieces.wall * cpu / piece_wall;
+    cpu += stage_cpu;
     RunRecord r;
     r.run = plan.run;
     r.law = plan.law;
@@ -379,7 +432,7 @@ struct Sweep {
       try {
         RunOutput out = read_run_output(h5);
         r.particles = out.particles;
-        r.steps = resume ? out.last_step : out.steps;
+        r.steps = resume || staged ? out.last_step : out.steps; // both stages: steps from the start
         r.time_step = out.time_step;
         r.values = out.final_values;
         r.particle_steps_per_s = wall > 0 ? double(r.steps) * r.particles / wall : 0;
@@ -805,6 +858,8 @@ SweepOptions parse_sweep_options(const std::vector<std::string>& args) {
       o.checkpoint_every = std::strtod(v.c_str(), &end);
       if (end == v.c_str() || *end || !(o.checkpoint_every > 0))
         throw CliError("--checkpoint-every expects a positive number of simulated seconds, got '" + v + "'");
+    } else if (name == "--first-stage") {
+      o.first_stage.push_back(value());
     } else if (name == "--quiet" || name == "-q")
       o.quiet = true;
     else if (name == "--no-plots")
@@ -862,6 +917,13 @@ Options:
   --checkpoint-every T   each run writes a checkpoint every T simulated seconds; started again, the sweep
                          continues an unfinished run from its checkpoint instead of from the start (for
                          runs longer than a sitting: kill the sweep, start the same command later)
+  --first-stage key=value
+                         an override of a first stage (repeatable): every run first runs the scene with
+                         these overrides to their time.end (first_stage.h5 in its directory), then continues
+                         from that stage's last step with the scene as given (`cgdem run --restart`), so a
+                         protocol can change what is not particle state between stages: friction, walls,
+                         outlets, the domain's periodicity. Times and rates count both stages; the
+                         analyses are those of the scene as given
   --no-plots             skip the PNG plots
   --quiet                no line per finished run
 
@@ -869,6 +931,9 @@ Examples:
   cgdem sweep sweeps/tiny_pile.yaml --laws chen_elliott,bond --k 1,2,3 --out tiny_sweep
   cgdem sweep sweeps/chen_repose.yaml --laws chen_elliott --k 2 --seeds 1,2,3 --reference-seeds 1,2 \
       --checkpoint-every 0.1 --out repose
+  cgdem sweep sweeps/hu_compression_paper.yaml --laws hu_method1 --k 2,4 --seeds 1,2,3 --first-stage \
+      materials.glass.friction=0.01 --first-stage time.end=0.5 --first-stage 'outlets.0.point=[0,0,0.1299]'
+      (Hu's compression: poured with friction 0.01, then friction 0.3, the cut and the piston)
   mpirun -np 4 cgdem sweep sweeps/tiny_pile.yaml --laws bond --k 1,2 --seeds 1,2 --out tiny_sweep
       (under mpirun each rank runs every 4th run on its cores / ranks threads; rank 0 writes the tables)
 )";
@@ -900,6 +965,11 @@ int sweep_command(const std::vector<std::string>& args) {
   try {
     s.scene = parse_scene_file(o.scene, o.overrides);
     s.analyses = make_analyses(s.scene);
+    if (!o.first_stage.empty()) { // checked here: a bad key of the first stage stops the sweep before any run
+      std::vector<std::string> staged = o.overrides;
+      staged.insert(staged.end(), o.first_stage.begin(), o.first_stage.end());
+      o.first_stage_end = parse_scene_file(o.scene, staged).time.end;
+    }
     for (std::size_t g = 0; g < s.scene.groups.size(); ++g)
       if (s.scene.groups[g].placement.kind == "file")
         throw SceneError(
@@ -952,6 +1022,12 @@ int sweep_command(const std::vector<std::string>& args) {
         p.mass = c.mass;
         for (const auto& w : c.warnings)
           std::fprintf(stderr, "cgdem sweep: %s: %s\n", p.run.c_str(), w.c_str());
+        if (!o.first_stage.empty()) {
+          all.insert(all.end(), o.first_stage.begin(), o.first_stage.end());
+          for (const auto& w : check_run(o.scene, all).warnings) // those the second stage has not given
+            if (std::find(c.warnings.begin(), c.warnings.end(), w) == c.warnings.end())
+              std::fprintf(stderr, "cgdem sweep: %s, first stage: %s\n", p.run.c_str(), w.c_str());
+        }
       } catch (const std::exception& e) {
         std::fprintf(stderr, "cgdem sweep: run %s (law %s, k = %s) would fail, nothing was run: %s\n",
                      p.run.c_str(), p.law.c_str(), fmt(p.k).c_str(), e.what());

@@ -28,6 +28,11 @@ struct SweepOptions {
   // --checkpoint-every: each run checkpoints every T simulated seconds, and a run stopped before its
   // record was written continues from its checkpoint when the sweep is started again. 0: off.
   double checkpoint_every = 0;
+  // --first-stage: overrides of a first stage that every run runs first (to that stage's time.end), each
+  // run then continuing from the stage's last step with the scene as given (`cgdem run --restart`): a
+  // bed poured with low friction and then compressed, a periodic sample then set free. Empty: one stage.
+  std::vector<std::string> first_stage;
+  double first_stage_end = 0; // the first stage's time.end, from the scene with its overrides
 };
 
 // One run's own figures, as recorded.

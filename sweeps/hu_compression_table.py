@@ -1,22 +1,22 @@
 #!/usr/bin/python3
-"""Table and stress-strain plot of Hu's compression at the paper's size (sweeps/hu_compression_paper.sh).
+"""Table and stress-strain plot of Hu's compression at the paper's size, from its sweep's run files
+(sweeps/hu_compression_paper.yaml, `cgdem sweep ... --seeds --first-stage ...`).
 
     /usr/bin/python3 sweeps/hu_compression_table.py OUT [--strains 0.05,0.1]
 
-Reads every finished run OUT/runs/<method>_l<l>_s<seed>/ (compress.done): the piston's stress against strain
-from compress*.h5 (/series/stress, /series/stress_strain), the particle count after the cut, and the CPU
-seconds of both stages (cpu.txt). Per method and scale factor over the seeds: the stress at each strain
-(mean +- standard deviation), its error against the originals' mean, the scatter (the seed-to-seed standard
-deviations of both, combined: sqrt(sd^2 + sd_orig^2) / orig mean) and whether the error lies within it, and
-the speed-up in CPU time against the originals' mean. Writes OUT/summary.csv, OUT/table.md and
-OUT/stress_strain.png (one panel per method, Hu's Fig. 3: the originals against l = 2 and 4, each the mean
-curve over its seeds with its min-max band).
+Reads every run of OUT/records (status ok): the piston's stress against strain from
+OUT/runs/<run>/run*.h5 (/series/stress, /series/stress_strain; pieces of several sittings pooled), the
+particle count after the cut, and the run's CPU seconds (both stages) from its record. Per method and scale
+factor over the seeds: the stress at each strain (mean +- standard deviation), its error against the
+originals' mean, the scatter (the seed-to-seed standard deviations of both, combined: sqrt(sd^2 +
+sd_orig^2) / orig mean) and whether the error lies within it, and the speed-up in CPU time against the
+originals' mean. Writes OUT/table.md, OUT/table.csv and OUT/stress_strain.png (one panel per method, Hu's
+Fig. 3: the originals against l = 2 and 4, each the mean curve over its seeds with its min-max band).
 """
 import argparse
 import glob
 import math
 import os
-import re
 import sys
 
 try:
@@ -32,12 +32,22 @@ except ImportError as e:  # the interpreter first on PATH may lack them; Debian'
 NAMES = {"none": "original", "hu_method1": "Method 1", "hu_method2": "Method 2", "hu_method3": "Method 3"}
 
 
+def read_record(path):
+    """The "key value" lines of a sweep record (drivers/sweep_command.cpp, write_record)."""
+    rec = {}
+    with open(path) as f:
+        for line in f:
+            parts = line.rstrip("\n").split(" ", 1)
+            if len(parts) == 2:
+                rec[parts[0]] = parts[1]
+    return rec
+
+
 def read_run(d):
-    """Strain and stress over the compression (pieces of several sittings pooled), particles, CPU seconds."""
+    """Strain and stress over the compression (pieces of several sittings pooled) and the particles."""
     t, strain, stress = [], [], []
     particles = None
-    pieces = sorted(glob.glob(os.path.join(d, "compress.part*.h5"))) + [os.path.join(d, "compress.h5")]
-    for path in pieces:
+    for path in sorted(glob.glob(os.path.join(d, "run.part*.h5"))) + [os.path.join(d, "run.h5")]:
         if not os.path.exists(path):
             continue
         with h5py.File(path, "r") as f:
@@ -49,14 +59,9 @@ def read_run(d):
                 strain.append(b)
                 stress.append(c)
             particles = int(s["particles"][-1])
-    cpu = 0.0
-    with open(os.path.join(d, "cpu.txt")) as f:
-        for line in f:
-            _, user, system, _wall = line.split()
-            cpu += float(user) + float(system)
     strain, stress = np.array(strain), np.array(stress)
     ok = np.isfinite(strain)
-    return strain[ok], stress[ok], particles, cpu
+    return strain[ok], stress[ok], particles
 
 
 def main():
@@ -66,13 +71,16 @@ def main():
     a = ap.parse_args()
     strains = [float(x) for x in a.strains.split(",")]
     runs = {}
-    for d in sorted(glob.glob(os.path.join(a.out, "runs", "*"))):
-        m = re.fullmatch(r"(.+)_l(\d+)_s(\d+)", os.path.basename(d))
-        if not m or not os.path.exists(os.path.join(d, "compress.done")):
+    for path in sorted(glob.glob(os.path.join(a.out, "records", "*.txt"))):
+        rec = read_record(path)
+        if rec.get("status") != "ok":
             continue
-        runs.setdefault((m.group(1), int(m.group(2))), []).append((int(m.group(3)), read_run(d)))
+        name = os.path.basename(path)[: -len(".txt")]
+        law, k = rec["law"], int(round(float(rec["k"])))
+        strain, stress, particles = read_run(os.path.join(a.out, "runs", name))
+        runs.setdefault((law, k), []).append((name, (strain, stress, particles, float(rec["cpu_time_s"]))))
     if not runs:
-        sys.exit(f"hu_compression_table.py: no finished run in {a.out}/runs")
+        sys.exit(f"hu_compression_table.py: no finished run in {a.out}/records")
 
     stats = {}
     for key, seeds in runs.items():
@@ -105,7 +113,7 @@ def main():
             else:
                 row += ["", "", ""]
         rows.append(row)
-    with open(os.path.join(a.out, "summary.csv"), "w") as f:
+    with open(os.path.join(a.out, "table.csv"), "w") as f:
         f.write(",".join(h.replace(",", "") for h in header) + "\n")
         for r in rows:
             f.write(",".join(c.replace(",", "") for c in r) + "\n")
@@ -137,7 +145,7 @@ def main():
     fig.suptitle("Hu's compression, 14 x 14 mm, 50 mm bed: mean over seeds, min-max band")
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "stress_strain.png"), dpi=110)
-    print(f"hu_compression_table.py: wrote {a.out}/table.md, summary.csv and stress_strain.png")
+    print(f"hu_compression_table.py: wrote {a.out}/table.md, table.csv and stress_strain.png")
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <thread>
 #include "drivers/analyses.hpp"
@@ -493,6 +494,49 @@ TEST_F(SweepTest, KilledRunContinuesFromItsCheckpoint) {
   EXPECT_EQ(resumed.values, uninterrupted.values);
   EXPECT_EQ(resumed.samples, uninterrupted.samples);
   EXPECT_GT(resumed.wall_time, 0);
+}
+
+// --first-stage: every run first runs the scene with those overrides to their end (here a pour with
+// almost no friction to 0.03 s), then continues from there with the scene as given. The records count the
+// steps of both stages, the result differs from the one-stage sweep's, and a bad key of the first stage
+// stops the sweep before any run.
+TEST_F(SweepTest, FirstStageRunsBeforeTheSceneAsGiven) {
+  const std::string common = " --laws chen_elliott --k 2 --set time.end=0.05 --policy serial --threads 1 "
+                             "--no-plots --quiet";
+  const fs::path staged = dir / "staged", plain = dir / "plain";
+  ASSERT_EQ(cgdem("sweep '" + kScene + "' --out '" + staged.string() + "'" + common +
+                  " --first-stage materials.beads.friction=0.01 --first-stage time.end=0.03"),
+            0)
+      << slurp(dir / "out.txt");
+  ASSERT_EQ(cgdem("sweep '" + kScene + "' --out '" + plain.string() + "'" + common), 0)
+      << slurp(dir / "out.txt");
+  for (const char* run : {"reference", "chen_elliott_k2"}) {
+    SCOPED_TRACE(run);
+    EXPECT_TRUE(fs::exists(staged / "runs" / run / "first_stage.h5"));
+    EXPECT_TRUE(fs::exists(staged / "runs" / run / "first_stage.done"));
+    const RunRecord a = read_record((staged / "records" / (std::string(run) + ".txt")).string());
+    const RunRecord b = read_record((plain / "records" / (std::string(run) + ".txt")).string());
+    EXPECT_EQ(a.status, "ok");
+    EXPECT_EQ(a.steps, b.steps); // both stages' steps, from the start
+    EXPECT_EQ(a.particles, b.particles);
+    EXPECT_NE(a.values, b.values); // the pour's low friction changed the pile
+    EXPECT_GT(a.cpu_time, 0);
+  }
+  // The continuation started where the first stage ended: the two processes' steps add up to the record's.
+  const std::string log = slurp(staged / "runs" / "reference" / "log.txt");
+  std::vector<long> steps;
+  const std::regex done("done: ([0-9]+) steps");
+  for (auto it = std::sregex_iterator(log.begin(), log.end(), done); it != std::sregex_iterator(); ++it)
+    steps.push_back(std::stol((*it)[1]));
+  ASSERT_EQ(steps.size(), 2u) << log;
+  EXPECT_GT(steps[0], 0);
+  EXPECT_GT(steps[1], 0);
+  EXPECT_EQ(steps[0] + steps[1], read_record((staged / "records" / "reference.txt").string()).steps);
+  EXPECT_EQ(cgdem("sweep '" + kScene + "' --out '" + (dir / "bad").string() + "'" + common +
+                  " --first-stage materials.beads.frictio=0.01"),
+            2);
+  EXPECT_NE(slurp(dir / "out.txt").find("frictio"), std::string::npos) << slurp(dir / "out.txt");
+  EXPECT_FALSE(fs::exists(dir / "bad" / "runs"));
 }
 
 // A failed run (non-zero exit, or a nan main figure) is listed as failed in sweep.csv and the summary and
