@@ -969,6 +969,10 @@ int sweep_command(const std::vector<std::string>& args) {
       std::vector<std::string> staged = o.overrides;
       staged.insert(staged.end(), o.first_stage.begin(), o.first_stage.end());
       o.first_stage_end = parse_scene_file(o.scene, staged).time.end;
+      if (!(o.first_stage_end < s.scene.time.end))
+        throw std::runtime_error("the first stage ends at " + fmt(o.first_stage_end) +
+                                 " s, not before the scene's time.end (" + fmt(s.scene.time.end) +
+                                 " s): give it its own end, --first-stage time.end=T");
     }
     for (std::size_t g = 0; g < s.scene.groups.size(); ++g)
       if (s.scene.groups[g].placement.kind == "file")

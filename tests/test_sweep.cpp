@@ -537,6 +537,11 @@ TEST_F(SweepTest, FirstStageRunsBeforeTheSceneAsGiven) {
             2);
   EXPECT_NE(slurp(dir / "out.txt").find("frictio"), std::string::npos) << slurp(dir / "out.txt");
   EXPECT_FALSE(fs::exists(dir / "bad" / "runs"));
+  EXPECT_EQ(cgdem("sweep '" + kScene + "' --out '" + (dir / "bad").string() + "'" + common +
+                  " --first-stage materials.beads.friction=0.01"),
+            2);
+  EXPECT_NE(slurp(dir / "out.txt").find("--first-stage time.end="), std::string::npos)
+      << slurp(dir / "out.txt");
 }
 
 // A failed run (non-zero exit, or a nan main figure) is listed as failed in sweep.csv and the summary and
