@@ -14,7 +14,8 @@
 # dry powder (Hertz-Mindlin, Hu's sigma = 0 curves). --l 1 runs the
 # original particles (law none). Outputs: OUT/runs/<method>_l<l>_<adhesion><value>/run.h5 and log.txt,
 # OUT/speed_pdf_<adhesion><value>.png and .csv (every run of that value found in OUT/runs, the
-# original's as the reference when present).
+# original's as the reference when present); each run's cpu.txt holds its pieces' user, system and wall
+# seconds.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/.." && pwd)
@@ -32,7 +33,7 @@ while [ $# -gt 0 ]; do
     --threads) threads=$2; shift 2 ;;
     --build) build=$2; shift 2 ;;
     --out) out=$2; shift 2 ;;
-    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
     *) echo "hu_mixer.sh: unknown option '$1' (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -41,6 +42,8 @@ cgdem=$build/cgdem
 case "$adhesion" in capillary|jkr) ;; *) echo "hu_mixer.sh: --adhesion is capillary or jkr" >&2; exit 2 ;; esac
 mkdir -p "$out/runs"
 scene=$here/hu_mixer.yaml
+TIMEFORMAT='%U %S %R'
+
 n=$(/usr/bin/python3 -c "print(round($count / $l ** 3))")
 [ "$l" = 1 ] && methods=none
 
@@ -66,7 +69,9 @@ for value in ${values//,/ }; do
       args+=(--restart "$run/run.checkpoint.h5")
     fi
     echo "hu_mixer.sh: $method l = $l, $adhesion $value, $n particles -> $run"
-    "$cgdem" run "$scene" "${args[@]}" --quiet >> "$run/log.txt" 2>&1
+    # Each piece's user, system and wall seconds go to cpu.txt (a piece stopped early too): the speed-ups
+    # are taken from CPU time, which other runs sharing the machine do not inflate.
+    { time "$cgdem" run "$scene" "${args[@]}" --quiet >> "$run/log.txt" 2>&1; } 2>> "$run/cpu.txt"
     touch "$run/run.done"
   done
   # Every finished run of this adhesion value, the original first (the reference).
