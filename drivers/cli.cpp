@@ -97,9 +97,9 @@ Options:
                          FILE.checkpoint.h5 (atomically: a kill never leaves a half-written checkpoint)
   --restart FILE         continue from a checkpoint; the continuation is bitwise identical to an
                          uninterrupted run. The scene may differ from the checkpoint's in what is not
-                         particle state (materials, wall and outlet positions and motions, time.end):
-                         a second stage, e.g. a bed poured with low friction and then compressed
-                         (sweeps/hu_compression_paper.sh); the contact law, walls, inlets, outlets and
+                         particle state (materials, wall and outlet positions and motions, the domain,
+                         time.end): a second stage, e.g. a bed poured with low friction and then
+                         compressed ('cgdem sweep --first-stage'); the contact law, walls, inlets, outlets and
                          analyses must be the same, and the particle count unless inlets or outlets
                          change it
   --quiet                no progress line
