@@ -99,9 +99,9 @@ Options:
                          uninterrupted run. The scene may differ from the checkpoint's in what is not
                          particle state (materials, wall and outlet positions and motions, the domain,
                          time.end): a second stage, e.g. a bed poured with low friction and then
-                         compressed ('cgdem sweep --first-stage'); the contact law, walls, inlets, outlets and
-                         analyses must be the same, and the particle count unless inlets or outlets
-                         change it
+                         compressed ('cgdem sweep --first-stage'); the contact law, walls, inlets,
+                         outlets and analyses must be the same, and the particle count unless inlets
+                         or outlets change it
   --quiet                no progress line
 
 Exit codes: 0 done, 2 bad input (one line naming the file, key and fix; also an output path that cannot
