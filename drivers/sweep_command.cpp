@@ -1086,12 +1086,16 @@ int sweep_command(const std::vector<std::string>& args) {
     for (const auto& p : pending)
       if (!s.execute(p, threads, false)) interrupted = true;
   } else {
+    // One worker per thread, each taking the next run in plan order: the references (the longest runs)
+    // start first, and the order does not depend on how the task scheduler picks tasks.
+    std::atomic<std::size_t> next{0};
     tbb::task_arena arena(threads);
     arena.execute([&] {
       tbb::task_group group;
-      for (const auto& p : pending)
-        group.run([&, p] {
-          if (!s.execute(p, 1, true)) interrupted = true;
+      for (int w = 0; w < threads; ++w)
+        group.run([&] {
+          for (std::size_t i = next++; i < pending.size(); i = next++)
+            if (!s.execute(pending[i], 1, true)) interrupted = true;
         });
       group.wait();
     });
