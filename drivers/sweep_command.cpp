@@ -306,6 +306,53 @@ struct Sweep {
 
   fs::path record_path(const std::string& run) const { return dir / "records" / (run + ".txt"); }
 
+  // A child `cgdem run` and its wall and CPU seconds.
+  struct Child {
+    int status = 0;
+    double wall = 0, cpu = 0;
+  };
+  static Child run_child(const std::vector<std::string>& argv, const std::vector<std::string>& env,
+                         const fs::path& rundir, const std::string& log, bool append_log) {
+    Child c;
+    const auto start = std::chrono::steady_clock::now();
+    c.status = spawn_and_wait(argv, env, rundir.string(), log, append_log, &c.cpu);
+    c.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return c;
+  }
+
+  // True (and said) when the child died of a signal: the run is not complete and runs again next time.
+  bool killed(const RunPlan& plan, int status, const char* where) {
+    if (WIFEXITED(status)) return false;
+    std::lock_guard<std::mutex> lock(print);
+    std::fprintf(stderr, "sweep: run %s was killed%s (signal %d); it will run again next time\n",
+                 plan.run.c_str(), where, WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+    return true;
+  }
+
+  RunRecord plan_record(const RunPlan& plan, int threads) const {
+    RunRecord r;
+    r.run = plan.run;
+    r.law = plan.law;
+    r.k = plan.k;
+    r.seed = plan.seed;
+    r.threads = threads;
+    r.mass = plan.mass;
+    return r;
+  }
+
+  // Writes the run's record and says how it ended.
+  void finish(const RunRecord& r, const std::string& log) {
+    write_record(record_path(r.run).string(), r);
+    const int n = ++done;
+    std::lock_guard<std::mutex> lock(print);
+    if (r.exit_code != 0)
+      std::fprintf(stderr, "[%d/%d] %s: %s; last lines of %s:\n%s", n, total, r.run.c_str(), r.status.c_str(),
+                   log.c_str(), tail(log, 4).c_str());
+    else if (!o.quiet)
+      std::fprintf(stderr, "[%d/%d] %-24s %7ld particles %8ld steps  %8.2f s  %.3g particle-steps/s\n", n,
+                   total, r.run.c_str(), r.particles, r.steps, r.wall_time, r.particle_steps_per_s);
+  }
+
   // Returns false when the child was killed (no record: the run is not complete).
   bool execute(const RunPlan& plan, int threads, bool unpin) {
     const fs::path rundir = dir / "runs" / plan.run;
@@ -338,19 +385,22 @@ struct Sweep {
     }
     // One single-threaded run per core: Kokkos' default pinning would put them all on the first core.
     if (unpin) env.push_back("OMP_PROC_BIND=false");
-    std::vector<std::string> argv{exe,     "run", scene_abs, "--quiet", "--threads", std::to_string(threads),
-                                  "--out", h5};
-    for (const auto& s : o.overrides)
-      argv.insert(argv.end(), {"--set", s});
-    for (const auto& s : plan.sets)
-      argv.insert(argv.end(), {"--set", s});
+    // The run's command line writing `out`, with the sweep's and the run's overrides.
+    const auto command = [&](const std::string& out) {
+      std::vector<std::string> argv{
+          exe, "run", scene_abs, "--quiet", "--threads", std::to_string(threads), "--out", out};
+      for (const auto& s : o.overrides)
+        argv.insert(argv.end(), {"--set", s});
+      for (const auto& s : plan.sets)
+        argv.insert(argv.end(), {"--set", s});
+      return argv;
+    };
 
     // The first stage, once: its wall and CPU seconds go to first_stage_time.txt and count with the run's.
     // One continued from its checkpoint counts its last piece only.
-    double stage_wall = 0, stage_cpu = 0;
+    Child stage;
     if (staged && !fs::exists(stage_done)) {
-      std::vector<std::string> first = argv;
-      *(std::find(first.begin(), first.end(), "--out") + 1) = (rundir / "first_stage.h5").string();
+      std::vector<std::string> first = command((rundir / "first_stage.h5").string());
       for (const auto& s : o.first_stage)
         first.insert(first.end(), {"--set", s});
       // Its last step is always checkpointed (cgdem run writes the run's end too).
@@ -358,40 +408,23 @@ struct Sweep {
                                  fmt(o.checkpoint_every > 0 ? o.checkpoint_every : o.first_stage_end)});
       const bool continued = fs::exists(stage_checkpoint);
       if (continued) first.insert(first.end(), {"--restart", stage_checkpoint.string()});
-      const auto start = std::chrono::steady_clock::now();
-      const int status = spawn_and_wait(first, env, rundir.string(), log, continued, &stage_cpu);
-      stage_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      if (!WIFEXITED(status)) {
-        std::lock_guard<std::mutex> lock(print);
-        std::fprintf(stderr,
-                     "sweep: run %s was killed in its first stage (signal %d); it will run again next time\n",
-                     plan.run.c_str(), WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-        return false;
-      }
-      if (WEXITSTATUS(status) != 0) {
-        RunRecord r;
-        r.run = plan.run;
-        r.law = plan.law;
-        r.k = plan.k;
-        r.seed = plan.seed;
-        r.threads = threads;
-        r.mass = plan.mass;
-        r.exit_code = WEXITSTATUS(status);
+      stage = run_child(first, env, rundir, log, continued);
+      if (killed(plan, stage.status, " in its first stage")) return false;
+      if (WEXITSTATUS(stage.status) != 0) {
+        RunRecord r = plan_record(plan, threads);
+        r.exit_code = WEXITSTATUS(stage.status);
         r.status = "failed in the first stage (exit " + std::to_string(r.exit_code) + ")";
-        write_record(record_path(plan.run).string(), r);
-        const int n = ++done;
-        std::lock_guard<std::mutex> lock(print);
-        std::fprintf(stderr, "[%d/%d] %s: %s; last lines of %s:\n%s", n, total, plan.run.c_str(),
-                     r.status.c_str(), log.c_str(), tail(log, 4).c_str());
+        finish(r, log);
         return true;
       }
-      std::ofstream(rundir / "first_stage_time.txt") << fmt(stage_wall) << " " << fmt(stage_cpu) << "\n";
+      std::ofstream(rundir / "first_stage_time.txt") << fmt(stage.wall) << " " << fmt(stage.cpu) << "\n";
       std::ofstream(stage_done).flush();
     } else if (staged) {
-      std::ifstream(rundir / "first_stage_time.txt") >> stage_wall >> stage_cpu;
+      std::ifstream(rundir / "first_stage_time.txt") >> stage.wall >> stage.cpu;
     }
 
     start_piece(rundir, resume ? pieces.last_step : 0);
+    std::vector<std::string> argv = command(h5);
     if (o.checkpoint_every > 0) argv.insert(argv.end(), {"--checkpoint-every", fmt(o.checkpoint_every)});
     if (resume) {
       argv.insert(argv.end(), {"--restart", checkpoint.string()});
@@ -401,32 +434,16 @@ struct Sweep {
     } else if (staged) {
       argv.insert(argv.end(), {"--restart", stage_checkpoint.string()});
     }
-    const auto start = std::chrono::steady_clock::now();
-    double cpu = 0;
-    const int status = spawn_and_wait(argv, env, rundir.string(), log, resume || staged, &cpu);
-    const double piece_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const Child piece = run_child(argv, env, rundir, log, resume || staged);
+    if (killed(plan, piece.status, "")) return false;
+    RunRecord r = plan_record(plan, threads);
+    r.pieces = pieces.count + 1;
     // Earlier pieces count up to their last checkpoint (the work after it was lost and is done again);
     // their CPU time, not measured, is taken at this piece's CPU-to-wall ratio.
-    const double wall = piece_wall + pieces.wall + stage_wall;
-    if (pieces.wall > 0 && piece_wall > 0) cpu += pieces.wall * cpu / piece_wall;
-    cpu += stage_cpu;
-    RunRecord r;
-    r.run = plan.run;
-    r.law = plan.law;
-    r.k = plan.k;
-    r.seed = plan.seed;
-    r.pieces = pieces.count + 1;
-    r.threads = threads;
-    r.wall_time = wall;
-    r.cpu_time = cpu;
-    r.mass = plan.mass;
-    if (!WIFEXITED(status)) {
-      std::lock_guard<std::mutex> lock(print);
-      std::fprintf(stderr, "sweep: run %s was killed (signal %d); it will run again next time\n",
-                   plan.run.c_str(), WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-      return false;
-    }
-    r.exit_code = WEXITSTATUS(status);
+    r.wall_time = piece.wall + pieces.wall + stage.wall;
+    r.cpu_time = piece.cpu + stage.cpu;
+    if (pieces.wall > 0 && piece.wall > 0) r.cpu_time += pieces.wall * piece.cpu / piece.wall;
+    r.exit_code = WEXITSTATUS(piece.status);
     r.status = r.exit_code == 0 ? "ok" : "failed (exit " + std::to_string(r.exit_code) + ")";
     if (r.exit_code == 0) {
       try {
@@ -435,7 +452,7 @@ struct Sweep {
         r.steps = resume || staged ? out.last_step : out.steps; // both stages: steps from the start
         r.time_step = out.time_step;
         r.values = out.final_values;
-        r.particle_steps_per_s = wall > 0 ? double(r.steps) * r.particles / wall : 0;
+        r.particle_steps_per_s = r.wall_time > 0 ? double(r.steps) * r.particles / r.wall_time : 0;
         r.engine_particle_steps_per_s = engine_rate_from_log(log);
         for (const auto& a : analyses)
           if (a->is_distribution())
@@ -445,15 +462,7 @@ struct Sweep {
         r.exit_code = -1;
       }
     }
-    write_record(record_path(plan.run).string(), r);
-    const int n = ++done;
-    std::lock_guard<std::mutex> lock(print);
-    if (r.exit_code != 0)
-      std::fprintf(stderr, "[%d/%d] %s: %s; last lines of %s:\n%s", n, total, plan.run.c_str(),
-                   r.status.c_str(), log.c_str(), tail(log, 4).c_str());
-    else if (!o.quiet)
-      std::fprintf(stderr, "[%d/%d] %-24s %7ld particles %8ld steps  %8.2f s  %.3g particle-steps/s\n", n,
-                   total, plan.run.c_str(), r.particles, r.steps, r.wall_time, r.particle_steps_per_s);
+    finish(r, log);
     return true;
   }
 };
