@@ -625,3 +625,32 @@ TEST_F(SweepTest, FailedRunsListedAndLeftOutOfPlots) {
   EXPECT_FALSE(fs::exists(s / "speedup.png")); // the earlier plots are removed, not left stale
   EXPECT_FALSE(fs::exists(s / "error.png"));
 }
+
+// The ordering Thakur's paper-scale runs confirm (sweeps/README.md, "Thakur with periodic sides", case
+// II: constant adhesion f0): scaling f0 with k^2 keeps the bed's stress and unconfined strength, scaling
+// it with k underestimates both and with k^3 (constant Bond number) overestimates them. Here on the small
+// side-walled version of the protocol (sweeps/thakur_eepa.yaml, 900 against 267 particles at k = 1.5).
+TEST_F(SweepTest, ThakurConstantAdhesionKeepsStrengthOnlyUnderF0SquaredScaling) {
+  const fs::path s = dir / "s";
+  ASSERT_EQ(
+      cgdem("sweep '" CGDEM_SOURCE_DIR "/sweeps/thakur_eepa.yaml' --laws "
+            "thakur,thakur_f0_linear,thakur_f0_cubic --k 1.5 --set materials.powder.eepa.k_adh=0 --out '" +
+            s.string() + "' --threads 2 --policy parallel --no-plots --quiet"),
+      0)
+      << slurp(dir / "out.txt");
+  auto value = [&](const std::string& run, const std::string& name) {
+    const RunRecord r = read_record((s / "records" / (run + ".txt")).string());
+    EXPECT_EQ(r.status, "ok") << run;
+    return r.values.at(name);
+  };
+  for (const char* name : {"stress", "ucs"}) {
+    const double ref = value("reference", name), squared = value("thakur_k1.5", name),
+                 linear = value("thakur_f0_linear_k1.5", name), cubic = value("thakur_f0_cubic_k1.5", name);
+    ASSERT_GT(ref, 0) << name;
+    EXPECT_LT(linear, ref) << name;
+    EXPECT_GT(cubic, ref) << name;
+    const double err_squared = std::abs(squared - ref) / ref;
+    EXPECT_LT(err_squared, (ref - linear) / ref) << name;
+    EXPECT_LT(err_squared, (cubic - ref) / ref) << name;
+  }
+}
