@@ -165,9 +165,23 @@ struct WallSpec {
   struct Segment {
     Vec3d velocity{0, 0, 0};
     double start = 0, stop = 0;
+    double until_force = 0; // > 0: the segment also ends once the particles push back this hard (N)
   };
   std::vector<Segment> then;
   static constexpr int kMaxThen = 3; // as Wall::kMaxThen on the device
+  double motion_until_force = 0;     // the first motion's until_force (N; 0: none)
+  // Segment k of the motion (-1: the first motion, `velocity` from `start` to `stop`) as a Segment.
+  Segment segment(int k) const {
+    return k < 0 ? Segment{velocity, motion_start, motion_stop, motion_until_force} : then[std::size_t(k)];
+  }
+  // Ends segment k at time t (a force-triggered stop): the wall holds its position from then on until
+  // its next segment starts.
+  void end_segment(int k, double t) {
+    if (k < 0)
+      motion_stop = t;
+    else
+      then[std::size_t(k)].stop = t;
+  }
 
   // Displacement from the time-0 position (host twin of Wall::offset).
   Vec3d displacement(double t) const {

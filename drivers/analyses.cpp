@@ -316,6 +316,9 @@ protected:
   }
 
 public:
+  void wall_motion_changed(const WallSpec& w) override {
+    if (w.name == wall_.name) wall_ = w;
+  }
   std::vector<double> state() const override {
     return {height_, seen_ ? 1.0 : 0.0, peak_stress_, peak_strain_};
   }

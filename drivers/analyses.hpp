@@ -63,6 +63,9 @@ public:
   // measured at the first output), saved in checkpoints so that a restarted run reports what the
   // uninterrupted one would. Empty for analyses of the current frame alone. restore_state throws
   // std::runtime_error on a state of the wrong size.
+  // A wall's motion as it now is (a segment ended early by its until_force), for the analyses that
+  // follow a wall's prescribed position.
+  virtual void wall_motion_changed(const WallSpec&) {}
   virtual std::vector<double> state() const { return {}; }
   virtual void restore_state(const std::vector<double>& s) { expect_state(s, 0); }
 

@@ -19,6 +19,7 @@
 #include "drivers/engine_setup.hpp"
 #include "drivers/resolution_check.hpp"
 #include "drivers/inlets_outlets.hpp"
+#include "drivers/wall_triggers.hpp"
 #include "drivers/particle_generation.hpp"
 #include "drivers/preflight.hpp"
 #include "drivers/scene_parser.hpp"
@@ -196,6 +197,7 @@ int run_command(const std::vector<std::string>& args) {
   CheckpointData restart;
   std::vector<std::unique_ptr<Analysis>> analyses; // the scene's analyses: outputs go into each series row
   std::unique_ptr<ParticleExchange> exchange;      // inlets and outlets
+  std::unique_ptr<WallTriggers> triggers;          // segments that end at a force
   try {
     p = prepare(o);
     analyses = make_analyses(p.scene);
@@ -212,12 +214,14 @@ int run_command(const std::vector<std::string>& args) {
     p.config.particles = ParticleSet{};
     if (distributed)
       engine = parallel::make_distributed_engine(std::move(engine), p.config.domain, p.config.skin);
+    triggers = std::make_unique<WallTriggers>(p.scene);
     if (!o.restart.empty()) {
       restart = read_checkpoint(o.restart);
       try {
         engine->restore(restart);
         exchange->load(restart);
         load_analysis_states(analyses, restart);
+        triggers->load(restart, *engine, analyses);
       } catch (const std::runtime_error& e) {
         throw std::runtime_error("cannot restart from '" + o.restart + "': " + e.what());
       }
@@ -304,6 +308,7 @@ int run_command(const std::vector<std::string>& args) {
       CheckpointData c = engine->checkpoint();
       exchange->save(c);
       save_analysis_states(analyses, c);
+      triggers->save(c);
       if (root) write_checkpoint(checkpoint_path, c);
     } catch (const std::runtime_error& e) {
       throw OutputFailure(e.what());
@@ -326,6 +331,7 @@ int run_command(const std::vector<std::string>& args) {
         CheckpointData c = engine->checkpoint();
         exchange->save(c);
         save_analysis_states(analyses, c);
+        triggers->save(c);
         write_checkpoint(checkpoint_path, c);
         saved = "; checkpoint of step " + std::to_string(engine->step()) + " in " + checkpoint_path;
       } catch (const std::exception& e) {
@@ -361,6 +367,7 @@ int run_command(const std::vector<std::string>& args) {
         next = std::min(next, (engine->step() / checkpoint_every + 1) * checkpoint_every);
       const long exchange_every = exchange->every_steps();
       if (exchange->active()) next = std::min(next, (engine->step() / exchange_every + 1) * exchange_every);
+      next = triggers->next_check(engine->step(), dt, next);
       // Progress at most every ~second even between frames: advance in slices.
       const long slice =
           std::max(1L, std::min(next - engine->step(), 2000000L / std::max(1, engine->size()) + 1));
@@ -369,6 +376,7 @@ int run_command(const std::vector<std::string>& args) {
       particle_steps += double(s - last_step) * engine->size();
       last_step = s;
       if (exchange->active() && s % exchange_every == 0) exchange->apply(*engine);
+      triggers->check(*engine, analyses);
       if (s % frame_every == 0 || s == end_step) {
         const Observables obs = emit();
         if (p.scene.stop.kinetic_energy_below > 0 && obs.time >= p.scene.stop.min_time &&

@@ -782,8 +782,20 @@ struct Parser {
                  "use one torque_power for the whole scene");
   }
 
+  // until_force (N): the segment ends once the particles' force on the wall against its velocity reaches
+  // this value (a stress target times the loaded area).
+  void parse_until_force(MapView& m, const Vec3d& velocity, double& until_force) {
+    if (!m.has("until_force")) return;
+    until_force = as_num(ctx, m.get("until_force"));
+    check(ctx, until_force > 0, m.get("until_force"), "until_force must be > 0 (N)",
+          "give the force in N at which the segment ends (a target stress x the loaded area)");
+    check(ctx, velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0, m.get("until_force"),
+          "until_force needs the segment's velocity: the force is measured against the motion",
+          "give the segment a velocity (e.g. velocity: [0, 0, -0.02]) or remove until_force");
+  }
+
   void parse_motion(const Field& f, WallSpec& w) {
-    MapView m(ctx, f, {"velocity", "angular_velocity", "rpm", "start", "stop", "then"});
+    MapView m(ctx, f, {"velocity", "angular_velocity", "rpm", "start", "stop", "until_force", "then"});
     opt_vec3(ctx, m, "velocity", w.velocity);
     if (m.has("angular_velocity") && m.has("rpm"))
       ctx.fail(m.sub("rpm"), m.get("rpm").mark, "both angular_velocity and rpm are given",
@@ -797,6 +809,7 @@ struct Parser {
       check(ctx, w.motion_stop > w.motion_start, m.get("stop"),
             "stop " + num_str(w.motion_stop) + " is not after start " + num_str(w.motion_start),
             "make stop later than start (or leave it out: moves until the end)");
+    parse_until_force(m, w.velocity, w.motion_until_force);
     if (m.has("then")) {
       const Field list = m.get("then");
       if (!list.node.IsSequence() || list.node.size() > WallSpec::kMaxThen)
@@ -805,7 +818,7 @@ struct Parser {
                      describe(list.node),
                  "write then: [{velocity: [0, 0, -0.005], start: 0.3, stop: 0.5}]");
       for (std::size_t i = 0; i < list.node.size(); ++i) {
-        MapView s(ctx, item(list, i), {"velocity", "start", "stop"});
+        MapView s(ctx, item(list, i), {"velocity", "start", "stop", "until_force"});
         WallSpec::Segment seg;
         opt_vec3(ctx, s, "velocity", seg.velocity);
         seg.start = as_num(ctx, s.require("start", "give the segment's start time in s"));
@@ -814,6 +827,7 @@ struct Parser {
         check(ctx, seg.stop > seg.start, s.get("stop"),
               "stop " + num_str(seg.stop) + " is not after start " + num_str(seg.start),
               "make stop later than start");
+        parse_until_force(s, seg.velocity, seg.until_force);
         w.then.push_back(seg);
       }
     }
@@ -962,7 +976,16 @@ struct Parser {
                 "give the cone's radius at point (the orifice) and at the far end");
         }
       }
-      if (m.has("motion")) parse_motion(m.get("motion"), w);
+      if (m.has("motion")) {
+        parse_motion(m.get("motion"), w);
+        // The output places a moving mesh from its prescribed motion alone.
+        bool until = w.motion_until_force > 0;
+        for (const WallSpec::Segment& seg : w.then)
+          until = until || seg.until_force > 0;
+        check(ctx, !(until && w.type == "mesh"), m.get("motion"),
+              "until_force is not available on mesh walls",
+              "end the mesh's segment at a time (stop), or press with a plane wall");
+      }
       scene.walls.push_back(w);
     }
   }

@@ -58,6 +58,10 @@ public:
   // and positions at the current time), keeping every other particle's state and contact history. Forces
   // on the added particles start at zero; those of the kept ones keep the last evaluation.
   virtual void exchange(const std::vector<std::int64_t>& remove_ids, const ParticleSet& add) = 0;
+  // Ends motion segment `segment` (-1: the first motion; k: motion.then[k]) of the named wall `wall` (its
+  // index in the scene: every part it owns) at `time`, the current time: the wall holds its position
+  // from then on until a later segment starts (a segment that ends when the particles push back).
+  virtual void end_wall_segment(int wall, int segment, double time) = 0;
   // The state a halo copy on another rank follows: position, velocity, angular velocity, force and torque
   // (kStateRowWidth values per particle, in that order) of the particles at the given store indices.
   static constexpr int kStateRowWidth = 15;

@@ -134,6 +134,7 @@ public:
   CheckpointData checkpoint() override;
   void restore(const CheckpointData& c) override;
   void exchange(const std::vector<std::int64_t>& remove_ids, const ParticleSet& add) override;
+  void end_wall_segment(int wall, int segment, double time) override;
 
   void read_state_rows(const std::vector<int>& index, std::vector<double>& rows) override;
   void write_state_rows(const std::vector<int>& index, const std::vector<double>& rows) override;
@@ -164,6 +165,7 @@ public:
   // Internal steps, public only because they launch device lambdas: CUDA requires the enclosing member
   // function of an extended lambda to be public.
   void allocate_per_particle_scratch(); // everything sized by n_ beside the store and the list
+  void upload_walls();                  // cfg_.walls to the device (at setup, and when a segment ends)
   void stage_state_rows(const std::vector<int>& index); // into row_index_, row_buffer_ grown to fit
   Real max_overlap_fraction();
   void check_overlaps();

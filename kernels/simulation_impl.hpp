@@ -69,12 +69,29 @@ void Simulation<Law, ExecSpace>::upload_tables() {
   }
   meshes_.upload(cfg_.meshes, cfg_.walls);
   walls_ = Kokkos::View<Wall*, Mem>("cgdem::kernels::walls", cfg_.walls.size());
+  upload_walls();
+  placed_walls_ = Kokkos::View<PlacedWall*, Mem>("cgdem::kernels::placed_walls", cfg_.walls.size());
+  placed_walls_host_ = Kokkos::create_mirror_view(placed_walls_);
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::upload_walls() {
   auto hwalls = Kokkos::create_mirror_view(walls_);
   for (std::size_t w = 0; w < cfg_.walls.size(); ++w)
     hwalls(w) = cfg_.walls[w];
   Kokkos::deep_copy(walls_, hwalls);
-  placed_walls_ = Kokkos::View<PlacedWall*, Mem>("cgdem::kernels::placed_walls", cfg_.walls.size());
-  placed_walls_host_ = Kokkos::create_mirror_view(placed_walls_);
+}
+
+template <class Law, class ExecSpace>
+void Simulation<Law, ExecSpace>::end_wall_segment(int wall, int segment, double time) {
+  for (Wall& w : cfg_.walls) {
+    if (w.owner != wall) continue;
+    if (segment < 0)
+      w.motion_stop = time;
+    else if (segment < w.num_then)
+      w.then_stop[segment] = time;
+  }
+  upload_walls();
 }
 
 template <class Law, class ExecSpace>

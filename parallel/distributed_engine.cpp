@@ -283,6 +283,9 @@ public:
   void write_state_rows(const std::vector<int>&, const std::vector<double>&) override {
     throw std::logic_error("state rows of a distributed engine: ask its rank's engine");
   }
+  void end_wall_segment(int wall, int segment, double time) override {
+    local_->end_wall_segment(wall, segment, time); // every rank decides alike from the reduced wall force
+  }
   std::vector<std::int64_t> store_ids() override { return local_->store_ids(); }
   void flip_pair_history(double* h) const override { local_->flip_pair_history(h); }
   double interaction_cutoff() const override { return local_->interaction_cutoff(); }

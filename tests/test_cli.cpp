@@ -621,3 +621,72 @@ TEST_F(CliTest, CorruptInputsGiveExitTwoAndLeaveEarlierOutputIntact) {
     EXPECT_TRUE(slurp(dir / "good.xdmf") == good_xdmf) << c.first << " changed the earlier XDMF";
   }
 }
+
+// A piston that loads the settled beads at constant speed until they push back with until_force, then
+// holds its position (Thakur's loading to a target stress): the segment ends at the first check at or
+// above the force, never earlier; the piston stays where it stopped; restarts from checkpoints before and
+// after that moment end bitwise on the uninterrupted run (the ended segment travels in the checkpoint).
+TEST_F(CliTest, SegmentEndsWhenTheParticlesPushBackWithUntilForce) {
+  std::string scene = std::string(drop_scene) + R"(analyses:
+  - {type: wall_stress, name: load, wall: piston, area: 1.0e-4, initial_height: 0.01}
+)";
+  const std::string floor = "    normal: [0, 0, 1]\n";
+  scene.insert(scene.find(floor) + floor.size(), R"(  - name: piston
+    type: plane
+    material: beads
+    point: [0, 0, 0.010]
+    normal: [0, 0, -1]
+    motion: {velocity: [0, 0, 0], then: [{velocity: [0, 0, -0.2], start: 0.03, stop: 0.06, until_force: 0.05}]}
+)");
+  write("base.yaml", scene);
+  const std::string common = "run base.yaml --threads 1 --set time.end=0.06 --set output.every=0.0005 ";
+  const Result full = cgdem(common + "--out full.h5");
+  ASSERT_EQ(full.code, 0) << full.err;
+  std::smatch m;
+  ASSERT_TRUE(
+      std::regex_search(full.err, m, std::regex("t = ([0-9.e+-]+) s: the particles push wall 'piston'")))
+      << full.err;
+  const double ended = std::stod(m[1]);
+  EXPECT_GT(ended, 0.03);
+  EXPECT_LT(ended, 0.06);
+  hid_t f = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const auto time = read_doubles(f, "series/time"), load = read_doubles(f, "series/load"),
+             strain = read_doubles(f, "series/load_strain");
+  H5Fclose(f);
+  ASSERT_EQ(time.size(), load.size());
+  ASSERT_EQ(time.size(), strain.size());
+  std::size_t before = 0, after = 0;
+  double held = std::nan("");
+  for (std::size_t r = 0; r < time.size(); ++r) {
+    if (time[r] < 0.03) continue;
+    // Every output from 0.03 s on is a check step: below the force until the end, the wall still.
+    if (time[r] < ended - 1e-9) {
+      EXPECT_LT(load[r] * 1.0e-4, 0.05) << "t = " << time[r];
+      ++before;
+    } else {
+      if (after == 0) held = strain[r];
+      EXPECT_EQ(strain[r], held) << "the piston moved at t = " << time[r];
+      ++after;
+    }
+  }
+  EXPECT_GT(before, 3u);
+  EXPECT_GT(after, 3u);
+  EXPECT_GT(held, 0);
+  // Restarts from before and after the end of the segment.
+  ASSERT_GT(ended, 0.035);
+  ASSERT_LT(ended, 0.055);
+  for (const char* at : {"0.035", "0.055"}) {
+    const std::string stem = std::string("mid") + at;
+    ASSERT_EQ(cgdem(common + "--out " + stem + ".h5 --set time.end=" + at + " --checkpoint-every " + at).code,
+              0);
+    const Result r = cgdem(common + "--out cont" + at + ".h5 --restart " + stem + ".checkpoint.h5");
+    ASSERT_EQ(r.code, 0) << r.err;
+    hid_t a = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    hid_t b = H5Fopen((dir / ("cont" + std::string(at) + ".h5")).c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    EXPECT_TRUE(read_doubles(a, last_frame(a) + "/velocity") == read_doubles(b, last_frame(b) + "/velocity"))
+        << "restart at " << at;
+    EXPECT_EQ(read_doubles(b, "series/load_strain").back(), held) << "restart at " << at;
+    H5Fclose(a);
+    H5Fclose(b);
+  }
+}

@@ -551,3 +551,23 @@ TEST(SceneParser, EveryDeclaredComponentParameterIsParsedCheckedAndMixed) {
   });
   EXPECT_GE(checked, 11); // spring (2), eepa (4), capillary (5) at least
 }
+
+// until_force: a positive force on a segment that moves; its segment keeps its times.
+TEST(SceneParser, UntilForceEndsAMovingSegment) {
+  const std::string ok =
+      replaced(kBase, "      start: 0.1\n",
+               "      start: 0.1\n      until_force: 2.5\n      then: [{velocity: [0, 0, -0.01], "
+               "start: 0.2, stop: 0.4, until_force: 30}]\n");
+  const Scene s = parse_scene_text(ok, "scene.yaml");
+  EXPECT_DOUBLE_EQ(s.walls[1].motion_until_force, 2.5);
+  ASSERT_EQ(s.walls[1].then.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.walls[1].then[0].until_force, 30);
+  EXPECT_DOUBLE_EQ(s.walls[1].segment(0).stop, 0.4);
+  EXPECT_DOUBLE_EQ(s.walls[1].segment(-1).until_force, 2.5);
+  const std::string negative = replaced(ok, "until_force: 30", "until_force: -30");
+  expect_error(negative, line_of(negative, "until_force: -30"), "walls.1.motion.then.0.until_force",
+               "must be > 0", "target stress x the loaded area");
+  const std::string still = replaced(ok, "velocity: [0, 0, -0.01]", "velocity: [0, 0, 0]");
+  expect_error(still, line_of(still, "until_force: 30"), "walls.1.motion.then.0.until_force",
+               "needs the segment's velocity", "give the segment a velocity");
+}
