@@ -54,9 +54,7 @@ struct RunInfo {
     std::string name;
     TriangleMeshData data;
     Wall motion;
-    bool moves() const {
-      return motion.angular_velocity != 0 || norm2(motion.velocity) > 0 || motion.num_then > 0;
-    }
+    bool moves() const { return motion.ever_moves(); }
   };
   std::vector<Mesh> meshes;
 };

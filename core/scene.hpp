@@ -170,6 +170,12 @@ struct WallSpec {
   std::vector<Segment> then;
   static constexpr int kMaxThen = 3; // as Wall::kMaxThen on the device
   double motion_until_force = 0;     // the first motion's until_force (N; 0: none)
+  // Oscillation (motion.oscillation): amplitude sin(2 pi frequency (t - start)) along a unit direction
+  // over [start, stop), added to the segments (a vibrated container).
+  struct Oscillation {
+    double amplitude = 0, frequency = 0, start = 0, stop = 1e300;
+    Vec3d direction{0, 0, 1};
+  } oscillation;
   // Segment k of the motion (-1: the first motion, `velocity` from `start` to `stop`) as a Segment.
   Segment segment(int k) const {
     return k < 0 ? Segment{velocity, motion_start, motion_stop, motion_until_force} : then[std::size_t(k)];
@@ -195,10 +201,14 @@ struct WallSpec {
       for (int a = 0; a < 3; ++a)
         d[a] += m * s.velocity[a];
     }
+    const double swing = oscillation.amplitude * std::sin(2 * 3.14159265358979323846 * oscillation.frequency *
+                                                          span(oscillation.start, oscillation.stop));
+    for (int a = 0; a < 3; ++a)
+      d[a] += swing * oscillation.direction[a];
     return d;
   }
   bool translates() const {
-    bool any = velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0;
+    bool any = velocity[0] != 0 || velocity[1] != 0 || velocity[2] != 0 || oscillation.amplitude != 0;
     for (const Segment& s : then)
       any = any || s.velocity[0] != 0 || s.velocity[1] != 0 || s.velocity[2] != 0;
     return any;

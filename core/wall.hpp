@@ -39,6 +39,10 @@ struct Wall {
   Vec3 then_velocity[kMaxThen];
   Real then_start[kMaxThen] = {0, 0, 0}, then_stop[kMaxThen] = {0, 0, 0};
   int num_then = 0;
+  // Oscillation (scene motion.oscillation), added to the segments: amplitude x sin(omega (t - start)) along
+  // a unit direction over [start, stop), held where it is at stop (a vibrated container).
+  Vec3 oscillation_direction{0, 0, 1};
+  Real oscillation_amplitude = 0, oscillation_omega = 0, oscillation_start = 0, oscillation_stop = 0;
 
   KOKKOS_INLINE_FUNCTION static Real span(Real t, Real a, Real b) {
     return t < a ? 0 : (t < b ? t - a : b - a);
@@ -48,7 +52,15 @@ struct Wall {
     Vec3 d = span(t, motion_start, motion_stop) * velocity;
     for (int k = 0; k < num_then; ++k)
       d += span(t, then_start[k], then_stop[k]) * then_velocity[k];
+    if (oscillation_amplitude != 0)
+      d += oscillation_amplitude *
+           math::sin(oscillation_omega * span(t, oscillation_start, oscillation_stop)) *
+           oscillation_direction;
     return d;
+  }
+  // Whether the wall moves at any time (a mesh that never does is placed once).
+  KOKKOS_INLINE_FUNCTION bool ever_moves() const {
+    return angular_velocity != 0 || norm2(velocity) > 0 || num_then > 0 || oscillation_amplitude != 0;
   }
   KOKKOS_INLINE_FUNCTION bool moving(Real t) const { return t >= motion_start && t < motion_stop; }
   // Angle turned about the axis since time 0 (rad).
@@ -60,6 +72,9 @@ struct Wall {
     Vec3 v = moving(t) ? velocity : Vec3{};
     for (int k = 0; k < num_then; ++k)
       if (t >= then_start[k] && t < then_stop[k]) v += then_velocity[k];
+    if (oscillation_amplitude != 0 && t >= oscillation_start && t < oscillation_stop)
+      v += oscillation_amplitude * oscillation_omega *
+           math::cos(oscillation_omega * (t - oscillation_start)) * oscillation_direction;
     return v;
   }
 };

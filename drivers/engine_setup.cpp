@@ -99,6 +99,11 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
     wall.angular_velocity = s.angular_velocity;
     wall.motion_start = s.motion_start;
     wall.motion_stop = s.motion_stop;
+    wall.oscillation_direction = to_vec(s.oscillation.direction);
+    wall.oscillation_amplitude = s.oscillation.amplitude;
+    wall.oscillation_omega = 2 * 3.14159265358979323846 * s.oscillation.frequency;
+    wall.oscillation_start = s.oscillation.start;
+    wall.oscillation_stop = s.oscillation.stop;
     wall.num_then = static_cast<int>(s.then.size());
     for (int k = 0; k < wall.num_then && k < Wall::kMaxThen; ++k) {
       wall.then_velocity[k] = to_vec(s.then[k].velocity);

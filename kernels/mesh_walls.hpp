@@ -120,7 +120,7 @@ public:
     bool any = false;
     for (const auto& p : parts_) {
       const Wall& w = host_walls[p.part];
-      any = any || w.angular_velocity != 0 || norm2(w.velocity) > 0 || w.num_then > 0;
+      any = any || w.ever_moves();
     }
     if (!any || num_vertices_ == 0) return;
     const auto rest = rest_;

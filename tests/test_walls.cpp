@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <cmath>
 #include "core/wall.hpp"
+#include "drivers/scene_parser.hpp"
 #include "tests/test_support.hpp"
 
 using namespace cgdem;
@@ -195,4 +196,95 @@ TEST(WallImpact, CheckpointWithoutWallMomentsRestores) {
   EXPECT_EQ(a->frame().position, b->frame().position);
   EXPECT_EQ(a->frame().velocity, b->frame().velocity);
   EXPECT_EQ(a->observe().wall_force, b->observe().wall_force);
+}
+
+// motion.oscillation: the wall's velocity is the derivative of its displacement, the host's displacement
+// (the analyses') is the device's, and the wall stays where it is at stop.
+TEST(WallMotion, OscillationVelocityIsTheDerivativeOfItsDisplacement) {
+  WallSpec spec;
+  spec.oscillation.amplitude = 1.5e-3;
+  spec.oscillation.frequency = 60;
+  spec.oscillation.direction = {0, 0.6, 0.8};
+  spec.oscillation.start = 0.1;
+  spec.oscillation.stop = 0.2125; // six and three quarter periods: held at the crest
+  Wall w;
+  w.oscillation_direction = Vec3{0, 0.6, 0.8};
+  w.oscillation_amplitude = 1.5e-3;
+  w.oscillation_omega = 2 * M_PI * 60;
+  w.oscillation_start = 0.1;
+  w.oscillation_stop = 0.2125;
+  EXPECT_EQ(norm(w.offset(0.05)), 0);
+  EXPECT_EQ(norm(w.translation_velocity(0.05)), 0);
+  double highest = 0;
+  for (double t = 0.1003; t < 0.212; t += 0.00071) {
+    const double h = 1e-7;
+    const Vec3 slope = (1 / (2 * h)) * (w.offset(t + h) - w.offset(t - h));
+    EXPECT_NEAR(norm(slope - w.translation_velocity(t)), 0, 1e-6 * 1.5e-3 * 2 * M_PI * 60) << t;
+    const Vec3d d = spec.displacement(t);
+    EXPECT_NEAR(d[1], w.offset(t).y, 1e-15);
+    EXPECT_NEAR(d[2], w.offset(t).z, 1e-15);
+    highest = std::max(highest, norm(w.offset(t)));
+  }
+  EXPECT_NEAR(highest, 1.5e-3, 1e-6);
+  EXPECT_NEAR(w.offset(0.3).z, -0.8 * 1.5e-3, 1e-12); // sin(2 pi x 6.75) = -1
+  EXPECT_EQ(norm(w.translation_velocity(0.3)), 0);
+}
+
+// A sphere resting on a floor that vibrates vertically with amplitude A and angular frequency w stays on
+// it while A w^2 < g and is thrown off when A w^2 > g (the floor then decelerates faster than gravity
+// can pull the sphere after it). The floor starts at speed A w, which kicks the sphere off at first:
+// the gaps are taken once that has died down (restitution 0.5), from 0.5 s on.
+TEST(WallMotion, SphereLeavesAVibratedFloorOnlyAboveOneG) {
+  const auto largest_gap = [](double peak_acceleration_in_g) {
+    const MaterialSpec m = material("glass", 2500, 5e6, 0.3, 0.5, 0.3);
+    Scene s = basic_scene({m}, "hertz", "mindlin");
+    s.gravity = {0, 0, -9.81};
+    WallSpec floor;
+    floor.name = "floor";
+    floor.material = m.name;
+    floor.normal = {0, 0, 1};
+    const double amplitude = 1e-3;
+    floor.oscillation.amplitude = amplitude;
+    floor.oscillation.frequency = std::sqrt(peak_acceleration_in_g * 9.81 / amplitude) / (2 * M_PI);
+    floor.oscillation.start = 0.05;
+    s.walls.push_back(floor);
+    ParticleSet p;
+    add_particle(p, {0, 0, 1e-3}, {0, 0, 0}, 1e-3, 2500);
+    auto engine = make(s, p, 2e-6);
+    double gap = 0;
+    for (int k = 0; k < 4000; ++k) {
+      engine->advance(100);
+      const FrameData f = engine->frame();
+      if (f.time > 0.5) gap = std::max(gap, f.position[2] - 1e-3 - floor.displacement(f.time)[2]);
+    }
+    return gap;
+  };
+  EXPECT_LT(largest_gap(0.5), 1e-6); // within the resting overlap's scale
+  EXPECT_GT(largest_gap(4), 1e-4);   // thrown a tenth of a millimetre and more
+}
+
+// motion.oscillation in a scene: parsed, its direction made a unit vector; a zero amplitude is refused.
+TEST(WallMotion, OscillationInTheScene) {
+  const std::string base = R"(domain: {lo: [0, 0, 0], hi: [0.01, 0.01, 0.01]}
+materials: {m: {density: 1000, youngs_modulus: 1e6}}
+groups: [{material: m, count: 1, size: {radius: 0.001}, placement: {type: lattice}}]
+walls:
+  - {name: floor, type: plane, material: m, point: [0, 0, 0], normal: [0, 0, 1],
+     motion: {oscillation: {amplitude: 1.5e-3, frequency: 60, direction: [0, 0, 2], stop: 2}}}
+time: {end: 1}
+)";
+  const Scene s = parse_scene_text(base, "scene.yaml");
+  EXPECT_DOUBLE_EQ(s.walls[0].oscillation.amplitude, 1.5e-3);
+  EXPECT_DOUBLE_EQ(s.walls[0].oscillation.frequency, 60);
+  EXPECT_DOUBLE_EQ(s.walls[0].oscillation.direction[2], 1);
+  EXPECT_DOUBLE_EQ(s.walls[0].oscillation.stop, 2);
+  std::string bad = base;
+  bad.replace(bad.find("amplitude: 1.5e-3"), 17, "amplitude: 0");
+  try {
+    parse_scene_text(bad, "scene.yaml");
+    ADD_FAILURE() << "accepted a zero amplitude";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("walls.0.motion.oscillation.amplitude"), std::string::npos)
+        << e.what();
+  }
 }
