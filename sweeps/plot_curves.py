@@ -6,7 +6,8 @@ final value: e.g. the piston stress against strain of each law and k against the
         [--from 0.32] [--to 0.58] [--xlabel ...] [--ylabel ...] [--yscale 1e-3] [--title ...]
 
 Reads SWEEP_DIR/runs/<run>/run.h5 (/series/<x>, /series/<y>, /series/time), preceded by its run.part<N>.h5
-when the run was continued from checkpoints; the reference runs (reference, reference_s<seed>) are drawn black.
+when the run was continued from checkpoints and by its first_stage.h5 when it ran in two stages; the reference
+runs (reference, reference_s<seed>) are drawn black.
 --from/--to keep the output frames with time in [from, to] (a test phase of a multi-phase run).
 """
 import argparse
@@ -50,7 +51,10 @@ def main():
         parts = sorted((p for p in os.listdir(os.path.join(runs_dir, run)) if p.startswith("run.part") and p.endswith(".h5")),
                        key=lambda p: int(p[len("run.part"):-3]))
         t, x, y = [], [], []
-        for piece in [os.path.join(runs_dir, run, p) for p in parts] + [path]:
+        # A two-stage run (cgdem sweep --first-stage) begins with its first stage's file.
+        first = [os.path.join(runs_dir, run, "first_stage.h5")]
+        first = first if os.path.exists(first[0]) else []
+        for piece in first + [os.path.join(runs_dir, run, p) for p in parts] + [path]:
             with h5py.File(piece, "r") as f:
                 s = f["series"]
                 if a.x not in s or a.y not in s:
