@@ -6,7 +6,7 @@
 namespace cgdem {
 
 WallTriggers::WallTriggers(Scene& scene) : scene_(scene) {
-  for (std::size_t w = 0; w < scene.walls.size(); ++w)
+  for (std::size_t w = 0; w < scene_.walls.size(); ++w)
     for (int k = -1; k < static_cast<int>(scene_.walls[w].then.size()); ++k)
       if (scene_.walls[w].segment(k).until_force > 0) triggers_.push_back({static_cast<int>(w), k});
 }
