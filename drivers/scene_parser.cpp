@@ -809,13 +809,19 @@ struct Parser {
           "give the direction of the oscillation, e.g. [0, 0, 1]");
     for (int a = 0; a < 3; ++a)
       o.direction[a] /= len;
-    opt_num(ctx, m, "start", o.start);
-    non_negative(ctx, m, "start", o.start, "give the start time in s, >= 0");
-    opt_num(ctx, m, "stop", o.stop);
+    parse_window(m, o.start, o.stop, "oscillates until the end");
+  }
+
+  // A motion's optional window [start, stop): start >= 0, stop after start; `open_end` says what leaving
+  // stop out means.
+  void parse_window(const MapView& m, double& start, double& stop, const std::string& open_end) {
+    opt_num(ctx, m, "start", start);
+    non_negative(ctx, m, "start", start, "give the start time in s, >= 0");
+    opt_num(ctx, m, "stop", stop);
     if (m.has("stop"))
-      check(ctx, o.stop > o.start, m.get("stop"),
-            "stop " + num_str(o.stop) + " is not after start " + num_str(o.start),
-            "make stop later than start (or leave it out: oscillates until the end)");
+      check(ctx, stop > start, m.get("stop"),
+            "stop " + num_str(stop) + " is not after start " + num_str(start),
+            "make stop later than start (or leave it out: " + open_end + ")");
   }
 
   void parse_motion(const Field& f, WallSpec& w) {
@@ -827,13 +833,7 @@ struct Parser {
                "give only one (angular_velocity in rad/s or rpm in revolutions per minute)");
     opt_num(ctx, m, "angular_velocity", w.angular_velocity);
     if (m.has("rpm")) w.angular_velocity = as_num(ctx, m.get("rpm")) * 2 * kPi / 60.0;
-    opt_num(ctx, m, "start", w.motion_start);
-    non_negative(ctx, m, "start", w.motion_start, "give the start time in s, >= 0");
-    opt_num(ctx, m, "stop", w.motion_stop);
-    if (m.has("stop"))
-      check(ctx, w.motion_stop > w.motion_start, m.get("stop"),
-            "stop " + num_str(w.motion_stop) + " is not after start " + num_str(w.motion_start),
-            "make stop later than start (or leave it out: moves until the end)");
+    parse_window(m, w.motion_start, w.motion_stop, "moves until the end");
     parse_until_force(m, w.velocity, w.motion_until_force);
     if (m.has("oscillation")) parse_oscillation(m.get("oscillation"), w.oscillation);
     if (m.has("then")) {
