@@ -571,6 +571,22 @@ int check_command(const std::vector<std::string>& args) {
             "%.4g] m (%s)\n",
             w.name.c_str(), w.mesh->triangles.size(), w.mesh->vertices.size(), w.mesh->lo[0], w.mesh->lo[1],
             w.mesh->lo[2], w.mesh->hi[0], w.mesh->hi[1], w.mesh->hi[2], w.file.c_str());
+    // What a wall's motion does beyond its prescribed segments.
+    for (const WallSpec& w : p.scene.walls) {
+      for (int k = -1; k < static_cast<int>(w.then.size()); ++k)
+        if (w.segment(k).until_force > 0)
+          std::printf("  wall %-12s %s ends at %.4g N against its velocity (until_force), else at %.4g s\n",
+                      w.name.c_str(), k < 0 ? "motion" : ("motion.then." + std::to_string(k)).c_str(),
+                      w.segment(k).until_force, w.segment(k).stop);
+      if (w.oscillation.amplitude > 0) {
+        char until[48] = "";
+        if (w.oscillation.stop < 1e299) std::snprintf(until, sizeof until, " to %.4g s", w.oscillation.stop);
+        std::printf("  wall %-12s oscillates %.4g m at %.4g Hz along [%.3g, %.3g, %.3g] from %.4g s%s\n",
+                    w.name.c_str(), w.oscillation.amplitude, w.oscillation.frequency,
+                    w.oscillation.direction[0], w.oscillation.direction[1], w.oscillation.direction[2],
+                    w.oscillation.start, until);
+      }
+    }
     std::printf("skin         %.4g m\n", p.config.skin);
     // Measured, not estimated: the engine as `run` builds it (store, first neighbour list with its history,
     // cells), plus the host copy each output frame takes while the writer runs (FrameData: id, position,

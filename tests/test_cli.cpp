@@ -639,6 +639,14 @@ TEST_F(CliTest, SegmentEndsWhenTheParticlesPushBackWithUntilForce) {
     motion: {velocity: [0, 0, 0], then: [{velocity: [0, 0, -0.2], start: 0.03, stop: 0.06, until_force: 0.05}]}
 )");
   write("base.yaml", scene);
+  // `cgdem check` says what the segment does.
+  const Result check = cgdem("check base.yaml");
+  ASSERT_EQ(check.code, 0) << check.err;
+  EXPECT_NE(
+      check.out.find("wall piston       motion.then.0 ends at 0.05 N against its velocity (until_force), "
+                     "else at 0.06 s"),
+      std::string::npos)
+      << check.out;
   const std::string common = "run base.yaml --threads 1 --set time.end=0.06 --set output.every=0.0005 ";
   const Result full = cgdem(common + "--out full.h5");
   ASSERT_EQ(full.code, 0) << full.err;
