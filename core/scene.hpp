@@ -201,7 +201,7 @@ struct WallSpec {
       for (int a = 0; a < 3; ++a)
         d[a] += m * s.velocity[a];
     }
-    const double swing = oscillation.amplitude * std::sin(2 * 3.14159265358979323846 * oscillation.frequency *
+    const double swing = oscillation.amplitude * std::sin(2 * M_PI * oscillation.frequency *
                                                           span(oscillation.start, oscillation.stop));
     for (int a = 0; a < 3; ++a)
       d[a] += swing * oscillation.direction[a];

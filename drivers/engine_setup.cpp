@@ -101,7 +101,7 @@ EngineConfig make_engine_config(const Scene& scene, const ParticleSet& particles
     wall.motion_stop = s.motion_stop;
     wall.oscillation_direction = to_vec(s.oscillation.direction);
     wall.oscillation_amplitude = s.oscillation.amplitude;
-    wall.oscillation_omega = 2 * 3.14159265358979323846 * s.oscillation.frequency;
+    wall.oscillation_omega = 2 * M_PI * s.oscillation.frequency;
     wall.oscillation_start = s.oscillation.start;
     wall.oscillation_stop = s.oscillation.stop;
     wall.num_then = static_cast<int>(s.then.size());

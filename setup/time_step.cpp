@@ -48,7 +48,7 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
     speed = std::max(speed, std::sqrt(w.velocity[0] * w.velocity[0] + w.velocity[1] * w.velocity[1] +
                                       w.velocity[2] * w.velocity[2]));
     speed = std::max(speed, std::fabs(w.angular_velocity) * w.reach_radius());
-    speed = std::max(speed, 2 * 3.14159265358979323846 * w.oscillation.frequency * w.oscillation.amplitude);
+    speed = std::max(speed, 2 * M_PI * w.oscillation.frequency * w.oscillation.amplitude);
   }
   const double g = std::sqrt(scene.gravity[0] * scene.gravity[0] + scene.gravity[1] * scene.gravity[1] +
                              scene.gravity[2] * scene.gravity[2]);
