@@ -55,11 +55,12 @@ mkdir -p "$out/runs"
 scene=$here/hu_mixer.yaml
 TIMEFORMAT='%U %S %R'
 
-# The scene overrides of one run: method (none: the original), scale factor l, adhesion value; into args.
+# The scene overrides of one run: method (none: the original), scale factor l, adhesion value; into args,
+# and its particle count into n.
 scene_args() {
   local method=$1 l=$2 value=$3
-  args=(--set "groups.0.count=$(/usr/bin/python3 -c "print(round($count / $2 ** 3))")" --set "output.every=0.01"
-        --threads "$threads")
+  n=$(/usr/bin/python3 -c "print(round($count / $l ** 3))")
+  args=(--set "groups.0.count=$n" --set "output.every=0.01" --threads "$threads")
   [ "$method" != none ] && args+=(--set "groups.0.coarse_grain={law: $method, factor: $l}")
   if [ "$adhesion" = capillary ] && [ "$(/usr/bin/python3 -c "print(float('$value') == 0)")" = True ]; then
     args+=(--set "contact={normal: hertz, tangential: mindlin, wall_adhesion: false}") # Hu's sigma = 0: dry
@@ -82,13 +83,17 @@ if [ -n "$timing" ]; then
     [ ${#runs[@]} -gt 0 ] || { echo "hu_mixer.sh: no finished run of $adhesion $value in $out/runs" >&2; exit 2; }
     times=$scratch/times.txt
     : > "$times"
+    # Each run's end time: its final checkpoint's time plus the span (read once).
+    declare -A until=()
+    for run in "${runs[@]}"; do
+      until[$run]=$(/usr/bin/python3 -c "import h5py; print(h5py.File('$run/run.checkpoint.h5', 'r').attrs['time'] + $timing)")
+    done
     for round in $(seq "$rounds"); do
       for run in "${runs[@]}"; do
         label=$(basename "$run"); label=${label%_"${adhesion}${value}"}
         method=${label%_l*} l=${label##*_l}
         scene_args "$method" "$l" "$value"
-        t0=$(/usr/bin/python3 -c "import h5py; print(h5py.File('$run/run.checkpoint.h5', 'r').attrs['time'])")
-        t1=$(/usr/bin/python3 -c "print($t0 + $timing)")
+        t1=${until[$run]}
         cpu=$( { time "$cgdem" run "$scene" "${args[@]}" --set "time.end=$t1" --restart "$run/run.checkpoint.h5" \
                    --out "$scratch/run.h5" > "$scratch/log.txt" 2>&1; } 2>&1 ) || true
         steps=$(sed -n 's/^done: \([0-9]*\) steps of \([0-9]*\) particles in .*: \([0-9.e+-]*\) particle-steps.*/\1 \2 \3/p' \
@@ -136,7 +141,7 @@ for value in ${values//,/ }; do
       mv "$run/run.h5" "$run/run.part$((parts + 1)).h5"
       args+=(--restart "$run/run.checkpoint.h5")
     fi
-    echo "hu_mixer.sh: $method l = $l, $adhesion $value, ${args[1]#groups.0.count=} particles -> $run"
+    echo "hu_mixer.sh: $method l = $l, $adhesion $value, $n particles -> $run"
     # Each piece's user, system and wall seconds go to cpu.txt (a piece stopped early too): the speed-ups
     # are taken from CPU time, which other runs sharing the machine do not inflate.
     { time "$cgdem" run "$scene" "${args[@]}" --quiet >> "$run/log.txt" 2>&1; } 2>> "$run/cpu.txt"
