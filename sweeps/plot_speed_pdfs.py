@@ -9,8 +9,10 @@ relative error of the mean speed.
         [--csv table.csv] [--reference LABEL] [--title TEXT] [--max 1.5] [--bins 30]
 
 Prints (and with --csv writes) per run: frames pooled, particles, mean, sd, median and 90th percentile speed,
-and the distances above. Runs continued from checkpoints: give the last piece (run.h5), or several pieces
-with the same label (their frames are pooled).
+the standard deviation of the frames' mean speeds (frame_mean_sd: how much the mean speed itself wanders at
+steady state, the scale against which a difference of means is noise or not), and the distances above.
+Runs continued from checkpoints: give the last piece (run.h5), or several pieces with the same label (their
+frames are pooled).
 """
 import argparse
 import sys
@@ -27,24 +29,27 @@ except ImportError as e:  # the interpreter first on PATH may lack them; Debian'
 
 
 def pooled_speeds(paths, t_from):
-    """Speeds of every frame at t >= t_from in the files, pooled; the frame count and particle count."""
-    speeds, frames, particles, times = [], 0, 0, []
+    """Speeds of every frame at t >= t_from in the files, pooled; the frame count, the particle count and
+    each frame's mean speed. Output times fall up to a few steps off their nominal value (the step does not
+    divide the output interval), so times within 1e-4 s count as equal, on both sides."""
+    speeds, frames, particles, times, frame_means = [], 0, 0, [], []
     for path in paths:
         with h5py.File(path, "r") as f:
             for name in sorted(f["frames"].keys()):
                 g = f["frames"][name]
                 t = float(g.attrs["time"])
                 # A run's closing frame can repeat the last output frame a step later: pool it once.
-                if t < t_from - 1e-12 or any(abs(t - u) < 1e-4 for u in times):
+                if t < t_from - 1e-4 or any(abs(t - u) < 1e-4 for u in times):
                     continue
                 times.append(t)
                 v = g["velocity"][()]
                 speeds.append(np.sqrt((v * v).sum(axis=1)))
+                frame_means.append(speeds[-1].mean())
                 frames += 1
                 particles = v.shape[0]
     if not speeds:
         sys.exit(f"plot_speed_pdfs.py: no frame at t >= {t_from} s in {', '.join(paths)}")
-    return np.concatenate(speeds), frames, particles
+    return np.concatenate(speeds), frames, particles, np.array(frame_means)
 
 
 def w1(a, b):
@@ -88,13 +93,14 @@ def main():
     centres = 0.5 * (edges[1:] + edges[:-1])
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     rows = []
-    for label, (s, frames, n) in data.items():
+    for label, (s, frames, n, frame_means) in data.items():
         pdf, _ = np.histogram(np.clip(s, 0, a.max), bins=edges, density=True)
         ref = label == a.reference
         ax.plot(centres, pdf, "k-" if ref else "-", lw=2.2 if ref else 1.4, marker=None if ref else "o", ms=3,
                 label=label)
         row = {"run": label, "frames": frames, "particles": n, "mean": s.mean(), "sd": s.std(),
-               "median": float(np.median(s)), "p90": float(np.percentile(s, 90))}
+               "median": float(np.median(s)), "p90": float(np.percentile(s, 90)),
+               "frame_mean_sd": float(frame_means.std(ddof=1)) if frames > 1 else float("nan")}
         if a.reference:
             r = data[a.reference][0]
             row.update({"err_mean": s.mean() / r.mean() - 1, "w1": w1(s, r), "ks": ks(s, r)})
