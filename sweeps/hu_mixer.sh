@@ -16,8 +16,9 @@
 # dry powder (Hertz-Mindlin, Hu's sigma = 0 curves). --l 1 runs the
 # original particles (law none). Outputs: OUT/runs/<method>_l<l>_<adhesion><value>/run.h5 and log.txt,
 # OUT/speed_pdf_<adhesion><value>.png and .csv (every run of that value found in OUT/runs, the
-# original's as the reference when present); each run's cpu.txt holds its pieces' user, system and wall
-# seconds.
+# original's as the reference when present), OUT/speed_profiles_<adhesion><value>.png and .csv (the same
+# runs' speed and volume share against height and distance from the axis: sweeps/plot_speed_profiles.py);
+# each run's cpu.txt holds its pieces' user, system and wall seconds.
 #
 # --timing SPAN measures the speed-ups instead of running: every finished run of each value (any method and
 # l, the original among them) continues from its final checkpoint for SPAN simulated seconds in a scratch
@@ -161,4 +162,7 @@ for value in ${values//,/ }; do
   [ ${#specs[@]} -gt 0 ] && /usr/bin/python3 "$here/plot_speed_pdfs.py" "${specs[@]}" --from "$from" "${ref[@]}" \
     --title "Hu mixer, $adhesion $value, speeds from t = $from s" \
     --out "$out/speed_pdf_${adhesion}${value}.png" --csv "$out/speed_pdf_${adhesion}${value}.csv"
+  # Where the runs' speeds differ: speed and volume share against height and distance from the axis.
+  [ ${#specs[@]} -gt 0 ] && /usr/bin/python3 "$here/plot_speed_profiles.py" "${specs[@]}" --from "$from" \
+    --out "$out/speed_profiles_${adhesion}${value}.png" --csv "$out/speed_profiles_${adhesion}${value}.csv" > /dev/null
 done
