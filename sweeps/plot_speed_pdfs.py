@@ -28,28 +28,44 @@ except ImportError as e:  # the interpreter first on PATH may lack them; Debian'
     sys.exit(f"plot_speed_pdfs.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-matplotlib)")
 
 
-def pooled_speeds(paths, t_from):
-    """Speeds of every frame at t >= t_from in the files, pooled; the frame count, the particle count and
-    each frame's mean speed. Output times fall up to a few steps off their nominal value (the step does not
-    divide the output interval), so times within 1e-4 s count as equal, on both sides."""
-    speeds, frames, particles, times, frame_means = [], 0, 0, [], []
+def steady_frames(paths, t_from):
+    """Each output frame at t >= t_from in the files, once, as (time, frame group). Output times fall up to a
+    few steps off their nominal value (the step does not divide the output interval), and a run's closing
+    frame can repeat its last output frame a step later, so times within 1e-4 s count as equal."""
+    times = []
     for path in paths:
         with h5py.File(path, "r") as f:
             for name in sorted(f["frames"].keys()):
                 g = f["frames"][name]
                 t = float(g.attrs["time"])
-                # A run's closing frame can repeat the last output frame a step later: pool it once.
                 if t < t_from - 1e-4 or any(abs(t - u) < 1e-4 for u in times):
                     continue
                 times.append(t)
-                v = g["velocity"][()]
-                speeds.append(np.sqrt((v * v).sum(axis=1)))
-                frame_means.append(speeds[-1].mean())
-                frames += 1
-                particles = v.shape[0]
-    if not speeds:
-        sys.exit(f"plot_speed_pdfs.py: no frame at t >= {t_from} s in {', '.join(paths)}")
-    return np.concatenate(speeds), frames, particles, np.array(frame_means)
+                yield t, g
+    if not times:
+        sys.exit(f"{sys.argv[0]}: no frame at t >= {t_from} s in {', '.join(paths)}")
+
+
+def labelled_runs(items):
+    """LABEL=RUN.h5 arguments as {label: [paths]}, a repeated label collecting the pieces of one run."""
+    files = {}
+    for item in items:
+        label, sep, path = item.partition("=")
+        if not sep:
+            sys.exit(f"{sys.argv[0]}: '{item}' is not LABEL=RUN.h5")
+        files.setdefault(label, []).append(path)
+    return files
+
+
+def pooled_speeds(paths, t_from):
+    """Speeds of every frame at t >= t_from in the files, pooled; the frame count, the particle count and
+    each frame's mean speed."""
+    speeds, particles = [], 0
+    for _, g in steady_frames(paths, t_from):
+        v = g["velocity"][()]
+        speeds.append(np.sqrt((v * v).sum(axis=1)))
+        particles = v.shape[0]
+    return np.concatenate(speeds), len(speeds), particles, np.array([s.mean() for s in speeds])
 
 
 def w1(a, b):
@@ -79,13 +95,7 @@ def main():
     ap.add_argument("--bins", type=int, default=30)
     a = ap.parse_args()
 
-    files = {}
-    for item in a.runs:
-        label, sep, path = item.partition("=")
-        if not sep:
-            sys.exit(f"plot_speed_pdfs.py: '{item}' is not LABEL=RUN.h5")
-        files.setdefault(label, []).append(path)
-    data = {label: pooled_speeds(paths, a.t_from) for label, paths in files.items()}
+    data = {label: pooled_speeds(paths, a.t_from) for label, paths in labelled_runs(a.runs).items()}
     if a.reference and a.reference not in data:
         sys.exit(f"plot_speed_pdfs.py: --reference {a.reference} is not one of the labels {list(data)}")
 

@@ -9,8 +9,7 @@ different places; two whose profiles differ everywhere move differently.
         [--csv prof.csv] [--axis-point 0 0] [--floor 0] [--height-edges 0,0.5,1,...] [--radius-edges ...]
 
 Heights and distances in mm; the bins' edges default to ones that suit Hu's mixer (84 mm vessel). Runs
-continued from checkpoints: repeat the label for each piece (frames within 1e-4 s of one already pooled are
-skipped). Prints (and with --csv writes) per run and bin the mean speed and the volume share.
+continued from checkpoints: repeat the label for each piece (frames pooled as by plot_speed_pdfs.py). Prints (and with --csv writes) per run and bin the mean speed and the volume share.
 """
 import argparse
 import sys
@@ -25,6 +24,8 @@ try:
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"plot_speed_profiles.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-matplotlib)")
 
+from plot_speed_pdfs import labelled_runs, steady_frames  # noqa: E402 (beside this script)
+
 HEIGHT_EDGES = "0,0.5,1,1.5,2,3,4,6,8,10,15,20,30"
 RADIUS_EDGES = "0,10,20,25,30,34,37,39,40,41,42"
 
@@ -33,31 +34,23 @@ def profiles(paths, t_from, axis_point, floor, edges):
     """Per coordinate (height, distance from the axis): volume-weighted mean speed and volume share per bin."""
     sums = {c: np.zeros(len(e) - 1) for c, e in edges.items()}
     vols = {c: np.zeros(len(e) - 1) for c, e in edges.items()}
-    times = []
-    for path in paths:
-        with h5py.File(path, "r") as f:
-            for name in sorted(f["frames"].keys()):
-                g = f["frames"][name]
-                t = float(g.attrs["time"])
-                if t < t_from - 1e-4 or any(abs(t - u) < 1e-4 for u in times):
-                    continue
-                times.append(t)
-                x, v, r = g["position"][()], g["velocity"][()], g["radius"][()]
-                speed, volume = np.sqrt((v * v).sum(axis=1)), r**3
-                coord = {"height": 1e3 * (x[:, 2] - floor),
-                         "radius": 1e3 * np.hypot(x[:, 0] - axis_point[0], x[:, 1] - axis_point[1])}
-                for c, e in edges.items():
-                    b = np.digitize(coord[c], e) - 1
-                    ok = (b >= 0) & (b < len(e) - 1)
-                    np.add.at(sums[c], b[ok], (speed * volume)[ok])
-                    np.add.at(vols[c], b[ok], volume[ok])
-    if not times:
-        sys.exit(f"plot_speed_profiles.py: no frame at t >= {t_from} s in {', '.join(paths)}")
+    frames = 0
+    for _, g in steady_frames(paths, t_from):
+        x, v, r = g["position"][()], g["velocity"][()], g["radius"][()]
+        speed, volume = np.sqrt((v * v).sum(axis=1)), r**3
+        coord = {"height": 1e3 * (x[:, 2] - floor),
+                 "radius": 1e3 * np.hypot(x[:, 0] - axis_point[0], x[:, 1] - axis_point[1])}
+        for c, e in edges.items():
+            b = np.digitize(coord[c], e) - 1
+            ok = (b >= 0) & (b < len(e) - 1)
+            np.add.at(sums[c], b[ok], (speed * volume)[ok])
+            np.add.at(vols[c], b[ok], volume[ok])
+        frames += 1
     out = {}
     for c in edges:
         with np.errstate(invalid="ignore", divide="ignore"):
             out[c] = (np.where(vols[c] > 0, sums[c] / vols[c], np.nan), vols[c] / vols[c].sum())
-    return out, len(times)
+    return out, frames
 
 
 def main():
@@ -72,15 +65,10 @@ def main():
     ap.add_argument("--radius-edges", default=RADIUS_EDGES, help="mm, comma-separated")
     a = ap.parse_args()
 
-    files = {}
-    for item in a.runs:
-        label, sep, path = item.partition("=")
-        if not sep:
-            sys.exit(f"plot_speed_profiles.py: '{item}' is not LABEL=RUN.h5")
-        files.setdefault(label, []).append(path)
     edges = {"height": np.array([float(s) for s in a.height_edges.split(",")]),
              "radius": np.array([float(s) for s in a.radius_edges.split(",")])}
-    data = {label: profiles(paths, a.t_from, a.axis_point, a.floor, edges) for label, paths in files.items()}
+    data = {label: profiles(paths, a.t_from, a.axis_point, a.floor, edges)
+            for label, paths in labelled_runs(a.runs).items()}
 
     fig, axes = plt.subplots(2, 2, figsize=(10, 7), sharex="col")
     names = {"height": "height above the floor (mm)", "radius": "distance from the axis (mm)"}
