@@ -57,6 +57,15 @@ def labelled_runs(items):
     return files
 
 
+def report(lines, csv, png):
+    """Prints the table's lines, writes them to csv when given, and says which files were written."""
+    print("\n".join(lines))
+    if csv:
+        with open(csv, "w") as f:
+            f.write("\n".join(lines) + "\n")
+    print(f"{sys.argv[0]}: wrote {png}" + (f" and {csv}" if csv else ""))
+
+
 def pooled_speeds(paths, t_from):
     """Speeds of every frame at t >= t_from in the files, pooled; the frame count, the particle count and
     each frame's mean speed."""
@@ -131,11 +140,7 @@ def main():
                 cols.append(c)
     fmt = lambda v: f"{v:.4g}" if isinstance(v, float) else str(v)
     lines = [",".join(cols)] + [",".join(fmt(r.get(c, "")) for c in cols) for r in rows]
-    print("\n".join(lines))
-    if a.csv:
-        with open(a.csv, "w") as f:
-            f.write("\n".join(lines) + "\n")
-    print(f"plot_speed_pdfs.py: wrote {a.out}" + (f" and {a.csv}" if a.csv else ""))
+    report(lines, a.csv, a.out)
 
 
 if __name__ == "__main__":

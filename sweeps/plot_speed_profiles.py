@@ -24,7 +24,7 @@ try:
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"plot_speed_profiles.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-matplotlib)")
 
-from plot_speed_pdfs import labelled_runs, steady_frames  # noqa: E402 (beside this script)
+from plot_speed_pdfs import labelled_runs, report, steady_frames  # noqa: E402 (beside this script)
 
 HEIGHT_EDGES = "0,0.5,1,1.5,2,3,4,6,8,10,15,20,30"
 RADIUS_EDGES = "0,10,20,25,30,34,37,39,40,41,42"
@@ -89,11 +89,7 @@ def main():
     fig.suptitle(f"speed profiles pooled from t = {a.t_from:g} s")
     fig.tight_layout()
     fig.savefig(a.out, dpi=110)
-    print("\n".join(lines))
-    if a.csv:
-        with open(a.csv, "w") as f:
-            f.write("\n".join(lines) + "\n")
-    print(f"plot_speed_profiles.py: wrote {a.out}" + (f" and {a.csv}" if a.csv else ""))
+    report(lines, a.csv, a.out)
 
 
 if __name__ == "__main__":
