@@ -478,11 +478,6 @@ struct Table {
 
 Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
   Table t;
-  std::vector<std::string> metrics, dists;
-  for (const auto& kv : ref.values)
-    metrics.push_back(kv.first);
-  for (const auto& kv : ref.samples)
-    dists.push_back(kv.first);
   t.columns = {"run",
                "law",
                "k",
@@ -500,6 +495,14 @@ Table make_table(const std::vector<SweepRow>& rows, const RunRecord& ref) {
                "engine_particle_steps_per_s",
                "speedup",
                "speedup_cpu"};
+  // A run's value named like one of the record's own columns (an outlet's `particles`, the count the
+  // record holds already) would give the CSV and the HDF5 group two columns of one name.
+  std::vector<std::string> metrics, dists;
+  for (const auto& kv : ref.values)
+    if (std::find(t.columns.begin(), t.columns.end(), kv.first) == t.columns.end())
+      metrics.push_back(kv.first);
+  for (const auto& kv : ref.samples)
+    dists.push_back(kv.first);
   for (const auto& m : metrics)
     t.columns.push_back(m);
   for (const auto& m : metrics)
