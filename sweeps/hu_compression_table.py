@@ -6,7 +6,9 @@
 
 Reads every run of OUT/records (status ok): the piston's stress against strain from
 OUT/runs/<run>/run*.h5 (/series/stress, /series/stress_strain; pieces of several sittings pooled), the
-particle count after the cut, and the run's CPU seconds (both stages) from its record. Per method and scale
+particle count after the cut, and the run's CPU seconds (both stages) from its record. The curves go to
+OUT/curves.csv (committed, the run files are not), which stands in for a run whose files are gone; a run
+with neither gives its record's final point only (the stress at strain 0.1). Per method and scale
 factor over the seeds: the stress at each strain (mean +- standard deviation), its error against the
 originals' mean, the scatter (the seed-to-seed standard deviations of both, combined: sqrt(sd^2 +
 sd_orig^2) / orig mean) and whether the error lies within it, and the speed-up in CPU time against the
@@ -43,10 +45,36 @@ def read_record(path):
     return rec
 
 
+def stress_at(strain, stress, e):
+    """The stress at strain e: interpolated on a curve, or a lone final point's own if it lies at e; a
+    strain within 1e-9 of a curve's end counts as on it (the piston's last position is e to round-off)."""
+    if len(strain) == 1:
+        return stress[0] if abs(strain[0] - e) < 1e-9 else np.nan
+    e = min(max(e, strain[0]), strain[-1]) if strain[0] - 1e-9 <= e <= strain[-1] + 1e-9 else e
+    return np.interp(e, strain, stress, left=np.nan, right=np.nan)
+
+
+def read_curves_csv(path):
+    """run -> (strain, stress) from an earlier curves.csv."""
+    curves = {}
+    if os.path.exists(path):
+        with open(path) as f:
+            next(f)
+            for line in f:
+                run, _, _, e, sigma = line.rstrip("\n").split(",")
+                curves.setdefault(run, ([], []))
+                curves[run][0].append(float(e))
+                curves[run][1].append(float(sigma))
+    return {run: (np.array(e), np.array(sigma)) for run, (e, sigma) in curves.items()}
+
+
 def read_run(d):
-    """Strain and stress over the compression (pieces of several sittings pooled) and the particles."""
+    """Strain and stress over the compression (pieces of several sittings pooled) and the particles; None
+    when the run's files are gone."""
     t, strain, stress = [], [], []
     particles = None
+    if not glob.glob(os.path.join(d, "run*.h5")):
+        return None
     for path in sorted(glob.glob(os.path.join(d, "run.part*.h5"))) + [os.path.join(d, "run.h5")]:
         if not os.path.exists(path):
             continue
@@ -70,27 +98,45 @@ def main():
     ap.add_argument("--strains", default="0.05,0.1")
     a = ap.parse_args()
     strains = [float(x) for x in a.strains.split(",")]
-    runs = {}
+    kept = read_curves_csv(os.path.join(a.out, "curves.csv"))
+    runs, curves = {}, {}
     for path in sorted(glob.glob(os.path.join(a.out, "records", "*.txt"))):
         rec = read_record(path)
         if rec.get("status") != "ok":
             continue
         name = os.path.basename(path)[: -len(".txt")]
         law, k = rec["law"], int(round(float(rec["k"])))
-        strain, stress, particles = read_run(os.path.join(a.out, "runs", name))
+        values = {line.split()[1]: float(line.split()[2]) for line in open(path) if line.startswith("value ")}
+        particles = int(values.get("particles", rec["particles"]))
+        found = read_run(os.path.join(a.out, "runs", name))
+        if found is not None:
+            strain, stress, particles = found
+            curves[name] = (law, k, strain, stress)
+        elif name in kept:
+            strain, stress = kept[name]
+            curves[name] = (law, k, strain, stress)
+        else:  # the final point alone: an interpolation finds it at exactly its strain
+            strain, stress = np.array([values["stress_strain"]]), np.array([values["stress"]])
         runs.setdefault((law, k), []).append((name, (strain, stress, particles, float(rec["cpu_time_s"]))))
     if not runs:
         sys.exit(f"hu_compression_table.py: no finished run in {a.out}/records")
+    with open(os.path.join(a.out, "curves.csv"), "w") as f:
+        f.write("run,law,l,strain,stress\n")
+        for name, (law, k, strain, stress) in sorted(curves.items()):
+            for e, sigma in zip(strain, stress):
+                f.write(f"{name},{law},{k},{e:.6g},{sigma:.6g}\n")
 
     stats = {}
     for key, seeds in runs.items():
-        at = np.array([[np.interp(e, r[0], r[1], left=np.nan, right=np.nan) for e in strains] for _, r in seeds])
+        at = np.array([[stress_at(r[0], r[1], e) for e in strains] for _, r in seeds])
+        have = np.isfinite(at).sum(axis=0)  # seeds with a value at each strain
         stats[key] = {
             "seeds": len(seeds),
             "particles": int(np.mean([r[2] for _, r in seeds])),
             "cpu": float(np.mean([r[3] for _, r in seeds])),
-            "mean": at.mean(axis=0),
-            "sd": at.std(axis=0, ddof=1) if len(seeds) > 1 else np.full(len(strains), np.nan),
+            "have": have,
+            "mean": np.array([np.nanmean(at[:, i]) if have[i] else np.nan for i in range(len(strains))]),
+            "sd": np.array([np.nanstd(at[:, i], ddof=1) if have[i] > 1 else np.nan for i in range(len(strains))]),
         }
     ref = stats.get(("none", 1))
     order = sorted(stats, key=lambda k: (k[0] != "none", k[0], k[1]))
@@ -103,10 +149,13 @@ def main():
         row = [NAMES.get(key[0], key[0]), str(key[1]), str(s["seeds"]), f"{s['particles']:,}", f"{s['cpu']:.0f}"]
         row.append(f"{ref['cpu'] / s['cpu']:.1f}" if ref else "")
         for i in range(len(strains)):
-            row.append(f"{s['mean'][i]:.4g} +- {s['sd'][i]:.2g}" if s["seeds"] > 1 else f"{s['mean'][i]:.4g}")
-            if ref and key != ("none", 1):
+            if not s["have"][i]:
+                row += ["(curve not kept)", "", "", ""]
+                continue
+            row.append(f"{s['mean'][i]:.4g} +- {s['sd'][i]:.2g}" if s["have"][i] > 1 else f"{s['mean'][i]:.4g}")
+            if ref and key != ("none", 1) and ref["have"][i]:
                 err = s["mean"][i] / ref["mean"][i] - 1
-                sd_r = ref["sd"][i] if ref["seeds"] > 1 else 0.0
+                sd_r = ref["sd"][i] if ref["have"][i] > 1 else 0.0
                 scatter = math.sqrt(np.nan_to_num(s["sd"][i]) ** 2 + sd_r**2) / ref["mean"][i]
                 within = "yes" if abs(err) <= scatter else "no"
                 row += [f"{100 * err:+.1f} %", f"{100 * scatter:.1f} %", within]
@@ -131,9 +180,16 @@ def main():
         for key in [("none", 1)] + sorted(k for k in stats if k[0] == method):
             if key not in runs:
                 continue
-            curves = np.array([np.interp(grid, r[0], r[1], left=np.nan, right=np.nan) for _, r in runs[key]])
             label = "original" if key[0] == "none" else f"l = {key[1]}"
             c = colours.get(key[1], None)
+            whole = [r for _, r in runs[key] if len(r[0]) > 1]
+            if not whole:  # only the records' final points: their mean and min-max at the last strain
+                e = max(strains)
+                points = np.array([stress_at(r[0], r[1], e) for _, r in runs[key]]) / 1e3
+                ax.errorbar([e], [points.mean()], yerr=[[points.mean() - points.min()], [points.max() - points.mean()]],
+                            fmt="o", color=c, capsize=3, label=f"{label} ({len(points)} seeds, final point)")
+                continue
+            curves = np.array([np.interp(grid, r[0], r[1], left=np.nan, right=np.nan) for r in whole])
             ax.plot(grid, curves.mean(axis=0) / 1e3, color=c, label=f"{label} ({len(curves)} seeds)")
             if len(curves) > 1:
                 ax.fill_between(grid, curves.min(axis=0) / 1e3, curves.max(axis=0) / 1e3, color=c, alpha=0.2, lw=0)
@@ -145,7 +201,7 @@ def main():
     fig.suptitle("Hu's compression, 14 x 14 mm, 50 mm bed: mean over seeds, min-max band")
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "stress_strain.png"), dpi=110)
-    print(f"hu_compression_table.py: wrote {a.out}/table.md, table.csv and stress_strain.png")
+    print(f"hu_compression_table.py: wrote {a.out}/table.md, table.csv, curves.csv and stress_strain.png")
 
 
 if __name__ == "__main__":
