@@ -248,9 +248,10 @@ std::string tail(const std::string& log, std::size_t lines) {
 }
 
 // A run continued from checkpoints is done in pieces, one process each. When a piece starts, its start
-// (wall-clock seconds since the epoch, first step) goes to piece_start.txt; when the next one starts, the
-// stopped piece's share, from its start to its last checkpoint (step and file time), is added to
-// pieces.txt. The work after that checkpoint was lost and is done again by the next piece.
+// (wall-clock seconds since the epoch, first step) goes to <stage>piece_start.txt; when the next one
+// starts, the stopped piece's share, from its start to its last checkpoint (step and file time), is added
+// to <stage>pieces.txt. The work after that checkpoint was lost and is done again by the next piece. A
+// first stage (--first-stage) keeps its own pair of files (stage "first_stage_"), the run's have none.
 struct Pieces {
   int count = 0;      // pieces before the one about to start
   long last_step = 0; // where the checkpoint stands
@@ -263,11 +264,11 @@ double epoch_seconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-void start_piece(const fs::path& rundir, long first_step) {
-  std::ofstream(rundir / "piece_start.txt") << fmt(epoch_seconds()) << " " << first_step << "\n";
+void start_piece(const fs::path& rundir, long first_step, const std::string& stage = "") {
+  std::ofstream(rundir / (stage + "piece_start.txt")) << fmt(epoch_seconds()) << " " << first_step << "\n";
 }
 
-Pieces continue_pieces(const fs::path& rundir, const fs::path& checkpoint) {
+Pieces continue_pieces(const fs::path& rundir, const fs::path& checkpoint, const std::string& stage = "") {
   Pieces p;
   {
     std::lock_guard<std::mutex> lock(hdf5_mutex());
@@ -280,11 +281,11 @@ Pieces continue_pieces(const fs::path& rundir, const fs::path& checkpoint) {
       stat(checkpoint.c_str(), &st) == 0 ? double(st.st_mtim.tv_sec) + 1e-9 * double(st.st_mtim.tv_nsec) : 0;
   double started = 0;
   long first = 0;
-  std::ifstream(rundir / "piece_start.txt") >> started >> first;
+  std::ifstream(rundir / (stage + "piece_start.txt")) >> started >> first;
   if (started > 0 && written > started && p.last_step > first)
-    std::ofstream(rundir / "pieces.txt", std::ios::app)
+    std::ofstream(rundir / (stage + "pieces.txt"), std::ios::app)
         << first << " " << p.last_step << " " << fmt(written - started) << "\n";
-  std::ifstream in(rundir / "pieces.txt");
+  std::ifstream in(rundir / (stage + "pieces.txt"));
   long from = 0, to = 0;
   double seconds = 0;
   while (in >> from >> to >> seconds) {
@@ -396,8 +397,8 @@ struct Sweep {
       return argv;
     };
 
-    // The first stage, once: its wall and CPU seconds go to first_stage_time.txt and count with the run's.
-    // One continued from its checkpoint counts its last piece only.
+    // The first stage, once: its wall and CPU seconds go to first_stage_time.txt and count with the run's,
+    // with its earlier pieces (if it was continued from its checkpoint) counted as the run's are.
     Child stage;
     if (staged && !fs::exists(stage_done)) {
       std::vector<std::string> first = command((rundir / "first_stage.h5").string());
@@ -408,6 +409,8 @@ struct Sweep {
                                  fmt(o.checkpoint_every > 0 ? o.checkpoint_every : o.first_stage_end)});
       const bool continued = fs::exists(stage_checkpoint);
       if (continued) first.insert(first.end(), {"--restart", stage_checkpoint.string()});
+      const Pieces earlier = continued ? continue_pieces(rundir, stage_checkpoint, "first_stage_") : Pieces{};
+      start_piece(rundir, earlier.last_step, "first_stage_");
       stage = run_child(first, env, rundir, log, continued);
       if (killed(plan, stage.status, " in its first stage")) return false;
       if (WEXITSTATUS(stage.status) != 0) {
@@ -416,6 +419,10 @@ struct Sweep {
         r.status = "failed in the first stage (exit " + std::to_string(r.exit_code) + ")";
         finish(r, log);
         return true;
+      }
+      if (earlier.wall > 0 && stage.wall > 0) {
+        stage.cpu += earlier.wall * stage.cpu / stage.wall;
+        stage.wall += earlier.wall;
       }
       std::ofstream(rundir / "first_stage_time.txt") << fmt(stage.wall) << " " << fmt(stage.cpu) << "\n";
       std::ofstream(stage_done).flush();

@@ -452,17 +452,15 @@ TEST_F(SweepTest, SeedsRunEveryCasePerSeedAndSummarize) {
 
 // --checkpoint-every: a sweep killed in the middle of a run continues that run from its checkpoint when
 // started again, and ends with the same figures as a sweep never interrupted (a restart is bitwise).
-TEST_F(SweepTest, KilledRunContinuesFromItsCheckpoint) {
-  const fs::path s = dir / "s", whole = dir / "whole";
-  const std::vector<std::string> common{
-      "--laws", "chen_elliott", "--k", "2",          "--set",   "time.end=0.6",       "--policy",
-      "serial", "--threads",    "1",   "--no-plots", "--quiet", "--checkpoint-every", "0.05"};
-  const fs::path checkpoint = s / "runs" / "reference" / "run.checkpoint.h5";
+// Starts `cgdem sweep kScene --out out ARGS`, waits for `file` to appear and a few checkpoints more, and
+// kills the sweep with SIGKILL.
+static void kill_sweep_after(const fs::path& out, const std::vector<std::string>& args,
+                             const fs::path& file) {
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
   if (pid == 0) {
-    std::vector<std::string> a{CGDEM_BINARY, "sweep", kScene, "--out", s.string()};
-    a.insert(a.end(), common.begin(), common.end());
+    std::vector<std::string> a{CGDEM_BINARY, "sweep", kScene, "--out", out.string()};
+    a.insert(a.end(), args.begin(), args.end());
     std::vector<char*> argv;
     for (auto& x : a)
       argv.push_back(x.data());
@@ -471,17 +469,30 @@ TEST_F(SweepTest, KilledRunContinuesFromItsCheckpoint) {
     _exit(127);
   }
   const auto start = std::chrono::steady_clock::now();
-  while (!fs::exists(checkpoint) && std::chrono::steady_clock::now() - start < std::chrono::seconds(120))
+  while (!fs::exists(file) && std::chrono::steady_clock::now() - start < std::chrono::seconds(120))
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   std::this_thread::sleep_for(std::chrono::milliseconds(300)); // a few checkpoints further
   kill(pid, SIGKILL);
   int status = 0;
   waitpid(pid, &status, 0);
-  ASSERT_TRUE(fs::exists(checkpoint));
+  ASSERT_TRUE(fs::exists(file));
+}
+
+static std::string quoted(const std::vector<std::string>& args) {
+  std::string s;
+  for (const auto& a : args)
+    s += " '" + a + "'";
+  return s;
+}
+
+TEST_F(SweepTest, KilledRunContinuesFromItsCheckpoint) {
+  const fs::path s = dir / "s", whole = dir / "whole";
+  const std::vector<std::string> common{
+      "--laws", "chen_elliott", "--k", "2",          "--set",   "time.end=0.6",       "--policy",
+      "serial", "--threads",    "1",   "--no-plots", "--quiet", "--checkpoint-every", "0.05"};
+  kill_sweep_after(s, common, s / "runs" / "reference" / "run.checkpoint.h5");
   ASSERT_FALSE(fs::exists(s / "records" / "reference.txt")) << "the run ended before the kill: lengthen it";
-  std::string rest;
-  for (const auto& c : common)
-    rest += " '" + c + "'";
+  const std::string rest = quoted(common);
   ASSERT_EQ(cgdem("sweep '" + kScene + "' --out '" + s.string() + "'" + rest), 0) << slurp(dir / "out.txt");
   ASSERT_EQ(cgdem("sweep '" + kScene + "' --out '" + whole.string() + "'" + rest), 0)
       << slurp(dir / "out.txt");
@@ -495,6 +506,59 @@ TEST_F(SweepTest, KilledRunContinuesFromItsCheckpoint) {
   EXPECT_EQ(resumed.values, uninterrupted.values);
   EXPECT_EQ(resumed.samples, uninterrupted.samples);
   EXPECT_GT(resumed.wall_time, 0);
+}
+
+// A first stage killed after a checkpoint continues from it like a run, bitwise, and the piece killed
+// (up to its last checkpoint) counts in the run's time: first_stage_pieces.txt holds it and
+// first_stage_time.txt, the stage's share of the record's wall and CPU seconds, includes it.
+TEST_F(SweepTest, KilledFirstStageContinuesAndCountsItsEarlierPiece) {
+  const fs::path s = dir / "s", whole = dir / "whole";
+  const std::vector<std::string> common{"--laws",
+                                        "chen_elliott",
+                                        "--k",
+                                        "2",
+                                        "--set",
+                                        "time.end=0.45",
+                                        "--policy",
+                                        "serial",
+                                        "--threads",
+                                        "1",
+                                        "--no-plots",
+                                        "--quiet",
+                                        "--checkpoint-every",
+                                        "0.05",
+                                        "--first-stage",
+                                        "materials.beads.friction=0.01",
+                                        "--first-stage",
+                                        "time.end=0.4"};
+  const fs::path run = s / "runs" / "reference";
+  kill_sweep_after(s, common, run / "first_stage.checkpoint.h5");
+  ASSERT_FALSE(fs::exists(run / "first_stage.done")) << "the first stage ended before the kill: lengthen it";
+  ASSERT_EQ(cgdem("sweep '" + kScene + "' --out '" + s.string() + "'" + quoted(common)), 0)
+      << slurp(dir / "out.txt");
+  ASSERT_EQ(cgdem("sweep '" + kScene + "' --out '" + whole.string() + "'" + quoted(common)), 0)
+      << slurp(dir / "out.txt");
+  const RunRecord resumed = read_record((s / "records" / "reference.txt").string());
+  const RunRecord uninterrupted = read_record((whole / "records" / "reference.txt").string());
+  EXPECT_EQ(resumed.steps, uninterrupted.steps);
+  ASSERT_EQ(resumed.values.size(), uninterrupted.values.size());
+  for (const auto& [name, v] : uninterrupted.values) // bitwise, nan (a flat pile's fit) included
+    EXPECT_TRUE(resumed.values.at(name) == v || (std::isnan(v) && std::isnan(resumed.values.at(name))))
+        << name;
+  std::ifstream pieces(run / "first_stage_pieces.txt");
+  long first = -1, last = -1;
+  double killed = 0;
+  ASSERT_TRUE(pieces >> first >> last >> killed) << "no earlier piece of the first stage recorded";
+  EXPECT_EQ(first, 0);
+  EXPECT_GT(last, 0);
+  EXPECT_GT(killed, 0);
+  EXPECT_FALSE(pieces >> first); // one killed piece
+  double stage_wall = 0, stage_cpu = 0;
+  std::ifstream(run / "first_stage_time.txt") >> stage_wall >> stage_cpu;
+  EXPECT_GT(stage_wall, killed);
+  EXPECT_GT(stage_cpu, 0);
+  EXPECT_GE(resumed.wall_time, stage_wall);
+  EXPECT_FALSE(fs::exists(whole / "runs" / "reference" / "first_stage_pieces.txt"));
 }
 
 // --first-stage: every run first runs the scene with those overrides to their end (here a pour with
