@@ -2,7 +2,7 @@
 """Table and stress-strain plot of Hu's compression at the paper's size, from its sweep's run files
 (sweeps/hu_compression_paper.yaml, `cgdem sweep ... --seeds --first-stage ...`).
 
-    /usr/bin/python3 sweeps/hu_compression_table.py OUT [--strains 0.05,0.1]
+    /usr/bin/python3 sweeps/hu_compression_table.py OUT [--strains 0.05,0.1] [--against OTHER --against-label L]
 
 Reads every run of OUT/records (status ok): the piston's stress against strain from
 OUT/runs/<run>/run*.h5 (/series/stress, /series/stress_strain; pieces of several sittings pooled), the
@@ -14,6 +14,8 @@ originals' mean, the scatter (the seed-to-seed standard deviations of both, comb
 sd_orig^2) / orig mean) and whether the error lies within it, and the speed-up in CPU time against the
 originals' mean. Writes OUT/table.md, OUT/table.csv and OUT/stress_strain.png (one panel per method, Hu's
 Fig. 3: the originals against l = 2 and 4, each the mean curve over its seeds with its min-max band).
+With --against OTHER (the same runs under another protocol, e.g. another piston speed): the change of
+each (method, l)'s stress at the last strain against OTHER's, with both seed scatters combined.
 """
 import argparse
 import glob
@@ -92,15 +94,11 @@ def read_run(d):
     return strain[ok], stress[ok], particles
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("out")
-    ap.add_argument("--strains", default="0.05,0.1")
-    a = ap.parse_args()
-    strains = [float(x) for x in a.strains.split(",")]
-    kept = read_curves_csv(os.path.join(a.out, "curves.csv"))
+def read_runs(out):
+    """(law, l) -> [(run, (strain, stress, particles, CPU s))] over OUT/records, and the curves found."""
+    kept = read_curves_csv(os.path.join(out, "curves.csv"))
     runs, curves = {}, {}
-    for path in sorted(glob.glob(os.path.join(a.out, "records", "*.txt"))):
+    for path in sorted(glob.glob(os.path.join(out, "records", "*.txt"))):
         rec = read_record(path)
         if rec.get("status") != "ok":
             continue
@@ -108,7 +106,7 @@ def main():
         law, k = rec["law"], int(round(float(rec["k"])))
         values = {line.split()[1]: float(line.split()[2]) for line in open(path) if line.startswith("value ")}
         particles = int(values.get("particles", rec["particles"]))
-        found = read_run(os.path.join(a.out, "runs", name))
+        found = read_run(os.path.join(out, "runs", name))
         if found is not None:
             strain, stress, particles = found
             curves[name] = (law, k, strain, stress)
@@ -118,14 +116,12 @@ def main():
         else:  # the final point alone: an interpolation finds it at exactly its strain
             strain, stress = np.array([values["stress_strain"]]), np.array([values["stress"]])
         runs.setdefault((law, k), []).append((name, (strain, stress, particles, float(rec["cpu_time_s"]))))
-    if not runs:
-        sys.exit(f"hu_compression_table.py: no finished run in {a.out}/records")
-    with open(os.path.join(a.out, "curves.csv"), "w") as f:
-        f.write("run,law,l,strain,stress\n")
-        for name, (law, k, strain, stress) in sorted(curves.items()):
-            for e, sigma in zip(strain, stress):
-                f.write(f"{name},{law},{k},{e:.6g},{sigma:.6g}\n")
+    return runs, curves
 
+
+def statistics(runs, strains):
+    """Per (law, l): seeds, mean particles and CPU s, and the stress's mean and sd over the seeds at each
+    strain (over the seeds that reach it)."""
     stats = {}
     for key, seeds in runs.items():
         at = np.array([[stress_at(r[0], r[1], e) for e in strains] for _, r in seeds])
@@ -138,11 +134,37 @@ def main():
             "mean": np.array([np.nanmean(at[:, i]) if have[i] else np.nan for i in range(len(strains))]),
             "sd": np.array([np.nanstd(at[:, i], ddof=1) if have[i] > 1 else np.nan for i in range(len(strains))]),
         }
+    return stats
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("out")
+    ap.add_argument("--strains", default="0.05,0.1")
+    ap.add_argument("--against", help="another sweep of the same runs (e.g. another piston speed): the change "
+                    "of each stress at the last strain against it, with the two seed scatters combined")
+    ap.add_argument("--against-label", default="against", help="what --against is, for the column names")
+    ap.add_argument("--title", default="Hu's compression, 14 x 14 mm, 50 mm bed: mean over seeds, min-max band")
+    a = ap.parse_args()
+    strains = [float(x) for x in a.strains.split(",")]
+    runs, curves = read_runs(a.out)
+    if not runs:
+        sys.exit(f"hu_compression_table.py: no finished run in {a.out}/records")
+    with open(os.path.join(a.out, "curves.csv"), "w") as f:
+        f.write("run,law,l,strain,stress\n")
+        for name, (law, k, strain, stress) in sorted(curves.items()):
+            for e, sigma in zip(strain, stress):
+                f.write(f"{name},{law},{k},{e:.6g},{sigma:.6g}\n")
+
+    stats = statistics(runs, strains)
+    other = statistics(read_runs(a.against)[0], strains[-1:]) if a.against else {}
     ref = stats.get(("none", 1))
     order = sorted(stats, key=lambda k: (k[0] != "none", k[0], k[1]))
     header = ["method", "l", "seeds", "particles", "CPU s per run", "speed-up (CPU)"]
     for e in strains:
         header += [f"stress at {e:g} (Pa)", "error", "scatter", "within"]
+    if other:
+        header += [f"stress at {strains[-1]:g}, {a.against_label} (Pa)", "change", "scatter"]
     rows = []
     for key in order:
         s = stats[key]
@@ -161,6 +183,14 @@ def main():
                 row += [f"{100 * err:+.1f} %", f"{100 * scatter:.1f} %", within]
             else:
                 row += ["", "", ""]
+        if other:
+            o = other.get(key)
+            if o is None or not o["have"][0]:
+                row += ["", "", ""]
+            else:
+                change = s["mean"][-1] / o["mean"][0] - 1
+                scatter = math.sqrt(np.nan_to_num(s["sd"][-1]) ** 2 + np.nan_to_num(o["sd"][0]) ** 2) / o["mean"][0]
+                row += [f"{o['mean'][0]:.4g} +- {o['sd'][0]:.2g}", f"{100 * change:+.1f} %", f"{100 * scatter:.1f} %"]
         rows.append(row)
     with open(os.path.join(a.out, "table.csv"), "w") as f:
         f.write(",".join(h.replace(",", "") for h in header) + "\n")
@@ -198,7 +228,7 @@ def main():
         ax.set_ylabel("piston stress (kPa)")
         ax.legend(fontsize=8)
         ax.grid(alpha=0.3)
-    fig.suptitle("Hu's compression, 14 x 14 mm, 50 mm bed: mean over seeds, min-max band")
+    fig.suptitle(a.title)
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "stress_strain.png"), dpi=110)
     print(f"hu_compression_table.py: wrote {a.out}/table.md, table.csv, curves.csv and stress_strain.png")
