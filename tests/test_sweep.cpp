@@ -722,8 +722,9 @@ TEST_F(SweepTest, ThakurConstantAdhesionKeepsStrengthOnlyUnderF0SquaredScaling) 
 
 // Hu's Fig. 3 ordering: Method 1 (forces similar under l) keeps the original bed's stress, Methods 2
 // and 3 overestimate it, Method 2 most (at the paper's cross-section, sweeps/results/
-// hu_compression_paper). Here on Hu's two-stage protocol in miniature (sweeps/tiny_compression.yaml:
-// 3,000 originals against ~350 particles at l = 2).
+// hu_compression_paper_50mms: Method 1 +6.7 %, Method 3 +101 %, Method 2 +185 % at l = 2). Here on Hu's
+// two-stage protocol in miniature (sweeps/tiny_compression.yaml: 3,000 originals against ~350 particles
+// at l = 2).
 TEST_F(SweepTest, HuCompressionMethodOneKeepsTheOriginalStress) {
   const fs::path s = dir / "s";
   ASSERT_EQ(cgdem("sweep '" CGDEM_SOURCE_DIR "/sweeps/tiny_compression.yaml' --laws "
