@@ -15,6 +15,7 @@
 #include <sstream>
 #include <thread>
 #include "core/particle_store.hpp"
+#include "drivers/kokkos_session.hpp"
 #include "tests/cli_support.hpp"
 
 using namespace cgdem::testing;
@@ -294,6 +295,20 @@ TEST_F(CliTest, SigkillMidRunLeavesEveryCompletedFrameReadable) {
     }
     H5Fclose(f);
   }
+}
+
+TEST(KokkosSessionTest, PinsThreadsOnlyWhenTheyFillTheCores) {
+  // Two single-threaded runs side by side on two cores must not both be bound to the first one.
+  EXPECT_STREQ(cgdem::default_proc_bind(1, 2, 1), "false");
+  EXPECT_STREQ(cgdem::default_proc_bind(2, 4, 1), "false");
+  // A process that has the machine keeps each particle range on one core.
+  EXPECT_STREQ(cgdem::default_proc_bind(2, 2, 1), "spread");
+  EXPECT_STREQ(cgdem::default_proc_bind(1, 1, 1), "spread");
+  EXPECT_STREQ(cgdem::default_proc_bind(0, 2, 1), "spread"); // 0: OpenMP's default, one thread per core
+  EXPECT_STREQ(cgdem::default_proc_bind(3, 2, 1), "spread");
+  // MPI ranks are placed by mpirun.
+  EXPECT_STREQ(cgdem::default_proc_bind(2, 2, 2), "false");
+  EXPECT_GE(cgdem::usable_cores(), 1);
 }
 
 TEST_F(CliTest, SameTrajectoryBitwiseOnOneAndTwoThreadsAndSerial) {

@@ -121,7 +121,9 @@ sum_rss() { cat "$@" | awk '/^[0-9]+$/ { s += $1 } END { print s + 0 }'; }
 
 run_cgdem() { # n threads run
   local tag=$OUT/cgdem_$1_t$2_r$3
-  /usr/bin/time -f %M -o "$tag.rss" "$CGDEM" run "$HERE/bed_$1.yaml" --threads "$2" --quiet --out "$tag.h5" "${CGDEM_LAW[@]}" "${CGDEM_SCENE[@]}" \
+  # Threads pinned at every count, as in the figures of perf/README.md (by itself cgdem pins only when its
+  # threads fill the cores: drivers/kokkos_session.hpp).
+  OMP_PROC_BIND=spread /usr/bin/time -f %M -o "$tag.rss" "$CGDEM" run "$HERE/bed_$1.yaml" --threads "$2" --quiet --out "$tag.h5" "${CGDEM_LAW[@]}" "${CGDEM_SCENE[@]}" \
     --set time.end="$($PY -c "print($STEPS * 1e-5)")" >"$tag.out" 2>"$tag.log" || { echo "cgdem failed: $tag.log" >&2; return 1; }
   local pss np contacts_ke
   np=$(sed -n 's/^done: [0-9]* steps of \([0-9]*\) particles.*/\1/p' "$tag.log")
