@@ -470,6 +470,7 @@ public:
              "name the drum's cylinder wall");
     center_ = w.point;
     axis_ = unit(w.axis);
+    radius_ = w.radius;
     A3 g = p.scene().gravity;
     const double ga = dot(g, axis_);
     up_ = unit(A3{-(g[0] - ga * axis_[0]), -(g[1] - ga * axis_[1]), -(g[2] - ga * axis_[2])});
@@ -488,7 +489,7 @@ public:
   void evaluate(const AnalysisInput& in, std::map<std::string, double>& out) override {
     if (in.frame.size() == 0) return;
     const double cell = cell_ > 0 ? cell_ : 4 * max_radius(in.frame);
-    const DrumFit fit = drum_angle(in.frame, center_, axis_, up_, cell, fraction_);
+    const DrumFit fit = drum_angle(in.frame, center_, axis_, up_, radius_, cell, fraction_);
     out[name()] = fit.angle_deg;
     out[name() + "_rms"] = fit.rms;
     out[name() + "_cells"] = double(fit.cells_used);
@@ -531,7 +532,7 @@ public:
 
 private:
   A3 center_{}, axis_{0, 1, 0}, up_{0, 0, 1};
-  double cell_ = 0, fraction_ = 0.6, average_from_ = -1;
+  double radius_ = 0, cell_ = 0, fraction_ = 0.6, average_from_ = -1;
   double sum_ = 0, sum_squares_ = 0, last_time_ = -1;
   long frames_ = 0;
 };
@@ -871,37 +872,87 @@ PlanarFlowFit planar_flow(const FrameData& f, const std::vector<char>& use, int 
 }
 
 DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, const std::array<double, 3>& axis,
-                   const std::array<double, 3>& up, double cell_width, double fit_fraction) {
+                   const std::array<double, 3>& up, double drum_radius, double cell_width,
+                   double fit_fraction) {
   DrumFit fit;
+  if (f.size() == 0) return fit;
   const A3 eu = cross(up, axis);
+  // The cross-section seen along the axis, in square cells of cell_width: each cell's solid volume and the
+  // top (v + r) of its highest particle.
   struct Cell {
-    double u = 0, w = 0, top = -std::numeric_limits<double>::max();
+    double volume = 0, top = -std::numeric_limits<double>::max();
   };
-  std::map<std::pair<long, long>, Cell> cells;
-  double umin = std::numeric_limits<double>::max(), umax = -umin;
+  std::map<long, std::map<long, Cell>> columns; // u cell -> v cell -> cell
+  double wmin = std::numeric_limits<double>::max(), wmax = -wmin;
   for (std::size_t i = 0; i < f.size(); ++i) {
     const A3 d{f.position[3 * i] - center[0], f.position[3 * i + 1] - center[1],
                f.position[3 * i + 2] - center[2]};
-    const double u = dot(d, eu), v = dot(d, up), w = dot(d, axis);
-    umin = std::min(umin, u);
-    umax = std::max(umax, u);
-    const auto key = std::make_pair(static_cast<long>(std::floor(u / cell_width)),
-                                    static_cast<long>(std::floor(w / cell_width)));
-    Cell& c = cells[key];
-    if (v + f.radius[i] > c.top) c = Cell{u, w, v + f.radius[i]};
+    const double u = dot(d, eu), v = dot(d, up), w = dot(d, axis), r = f.radius[i];
+    wmin = std::min(wmin, w - r);
+    wmax = std::max(wmax, w + r);
+    Cell& c =
+        columns[static_cast<long>(std::floor(u / cell_width))][static_cast<long>(std::floor(v / cell_width))];
+    c.volume += 4.0 / 3.0 * kPi * r * r * r;
+    c.top = std::max(c.top, v + r);
+  }
+  // A cell is bed when its solid fraction over the occupied length reaches kBedFraction. Each column's
+  // surface is the top of the run of bed cells rising from its lowest one; what lies above a gap (powder
+  // coating the wall over the bed, a cohesive powder carried over the top, particles in flight) is not the
+  // surface. Surfaces within kWallLayer cells of the drum wall are the coating on the wall beside the bed.
+  constexpr double kBedFraction = 0.2, kWallLayer = 1.5;
+  const double cell_volume = cell_width * cell_width * (wmax - wmin);
+  const double inner = drum_radius - kWallLayer * cell_width;
+  std::vector<std::array<double, 2>> surface;
+  for (const auto& column : columns) {
+    long top_cell = 0;
+    bool found = false;
+    for (const auto& cell : column.second) { // ascending v
+      const bool bed = cell.second.volume >= kBedFraction * cell_volume;
+      if (!found && bed) {
+        found = true;
+        top_cell = cell.first;
+      } else if (found && bed && cell.first == top_cell + 1) {
+        top_cell = cell.first;
+      } else if (found) {
+        break;
+      }
+    }
+    if (!found) continue;
+    const double u = (column.first + 0.5) * cell_width, v = column.second.at(top_cell).top;
+    if (u * u + v * v < inner * inner) surface.push_back({u, v});
+  }
+  if (surface.empty()) return fit;
+  double umin = surface[0][0], umax = umin;
+  for (const auto& p : surface) {
+    umin = std::min(umin, p[0]);
+    umax = std::max(umax, p[0]);
   }
   const double mid = 0.5 * (umin + umax), half = 0.5 * fit_fraction * (umax - umin);
-  std::vector<A3> pts;
-  for (const auto& kv : cells) {
-    const double uc = (kv.first.first + 0.5) * cell_width;
-    if (std::abs(uc - mid) <= half) pts.push_back({kv.second.u, kv.second.w, kv.second.top});
+  std::vector<std::array<double, 2>> pts;
+  for (const auto& p : surface)
+    if (std::abs(p[0] - mid) <= half) pts.push_back(p);
+  fit.cells_used = pts.size();
+  if (pts.size() < 2) return fit;
+  // Total least squares line: the principal axis of the points' covariance.
+  double mu = 0, mv = 0;
+  for (const auto& p : pts) {
+    mu += p[0];
+    mv += p[1];
   }
-  const PlaneFit plane = fit_plane(pts);
-  fit.cells_used = plane.n;
-  if (plane.n < 3) return fit;
-  // Normal (n_u, n_w, n_v): the surface v(u) has dv/du = -n_u / n_v.
-  fit.angle_deg = std::atan2(std::abs(plane.normal[0]), std::abs(plane.normal[2])) * 180 / kPi;
-  fit.rms = plane.rms;
+  mu /= pts.size();
+  mv /= pts.size();
+  double suu = 0, svv = 0, suv = 0;
+  for (const auto& p : pts) {
+    suu += (p[0] - mu) * (p[0] - mu);
+    svv += (p[1] - mv) * (p[1] - mv);
+    suv += (p[0] - mu) * (p[1] - mv);
+  }
+  suu /= pts.size();
+  svv /= pts.size();
+  suv /= pts.size();
+  fit.angle_deg = std::abs(0.5 * std::atan2(2 * suv, suu - svv)) * 180 / kPi;
+  const double smallest = 0.5 * (suu + svv) - std::sqrt(0.25 * (suu - svv) * (suu - svv) + suv * suv);
+  fit.rms = std::sqrt(std::max(0.0, smallest));
   return fit;
 }
 

@@ -13,8 +13,9 @@
 //   profile               porosity of a box region (slabs along an axis); extras: min/max slab porosity,
 //                         mean coordination number and its slab min/max
 //   velocity_distribution mean speed (m/s); extras: std, median, p90, max; optional CSV of the PDF
-//   drum_angle            dynamic angle of repose in a rotating drum (degrees): total least-squares plane
-//                         through the top particles of the bed, tilt in the drum's cross-section
+//   drum_angle            dynamic angle of repose in a rotating drum (degrees): total least-squares line
+//                         through the bed's free surface seen along the axis (not the powder coating the
+//                         wall above it)
 //   planar_flow           runout of a flow or heap spreading along one axis (column collapse, slump, planar
 //                         heap; m); extras: front position, height, free-surface angle, r2, bins
 // The building blocks (fits, distances, profiles) are exposed for the unit tests and the sweep.
@@ -138,12 +139,18 @@ struct DrumFit {
   double angle_deg = 0, rms = 0;
   std::size_t cells_used = 0;
 };
-// Bed in a drum: axis through `center` along `axis`, `up` = the upward direction (perpendicular to the
-// axis). Cross-section coordinates u = up x axis, v = up, w = axis. Cells of width cell_width in (u, w);
-// the top (v + r) of each cell's highest particle is a surface point; the cells whose u lies in the central
-// `fit_fraction` of the bed's u range are fitted with a plane; the angle is atan |dv/du|.
+// Bed in a drum of radius drum_radius: axis through `center` along `axis`, `up` = the upward direction
+// (perpendicular to the axis). The cross-section seen along the axis (u = up x axis, v = up) in square
+// cells of cell_width; a cell is bed when its solid fraction over the particles' length along the axis is
+// at least 0.2. Each u column's surface point is the top (v + r) of the highest particle in the run of
+// bed cells rising from its lowest one, so that powder stuck to the wall above the bed (a cohesive powder
+// coats the drum and is carried over the top) or in flight is not read as the surface; points within 1.5
+// cells of the drum wall are that coating beside the bed and are dropped. The points whose u lies in the
+// central `fit_fraction` of their u range are fitted with a total least squares line; the angle is its
+// tilt, rms its residual, cells_used the points fitted.
 DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, const std::array<double, 3>& axis,
-                   const std::array<double, 3>& up, double cell_width, double fit_fraction);
+                   const std::array<double, 3>& up, double drum_radius, double cell_width,
+                   double fit_fraction);
 
 struct PlanarFlowFit {
   // nan until defined: no particles, or (angle, r2) fewer than 2 flank bins

@@ -183,7 +183,7 @@ TEST(Analyses, PlaneOfKnownTilt) {
 }
 
 // Drum along y through the origin, gravity -z, radius 20 mm: a bed below the line z = tan(tilt) x - 0.004
-// (tops on it).
+// (tops on it), filled from the drum's floor.
 static FrameData drum_bed(double tilt_deg) {
   FrameData f;
   std::mt19937_64 rng(5);
@@ -195,13 +195,33 @@ static FrameData drum_bed(double tilt_deg) {
     const double z_floor = -std::sqrt(std::max(0.0, R * R - x * x));
     if (surface - 2 * r < z_floor) continue;
     add(f, x, y, surface - r, r);
-    add(f, x, y, z_floor + r + (surface - z_floor - 2 * r) * 0.5 * (u(rng) + 1), r);
+    for (int fill = 0; fill < 6; ++fill) // dense enough to leave no gap wider than a particle, as a packing
+      add(f, x, y, z_floor + r + (surface - z_floor - 2 * r) * 0.5 * (u(rng) + 1), r);
   }
   return f;
 }
 
 TEST(Analyses, DrumBedOfKnownTilt) {
-  const DrumFit fit = drum_angle(drum_bed(28), {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.0012, 0.6);
+  const DrumFit fit = drum_angle(drum_bed(28), {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.02, 0.0012, 0.6);
+  EXPECT_NEAR(fit.angle_deg, 28, 1.0);
+  EXPECT_GT(fit.cells_used, 10u);
+}
+
+TEST(Analyses, DrumAngleIsTheBedsSurfaceNotThePowderCoatingTheWall) {
+  // The tilted bed, and a cohesive powder's coating: three layers of particles stuck to the whole drum
+  // wall, carried over the top of the drum, with a lump hanging from its ceiling. Read as the surface,
+  // the coating's top would make a flat or wall-shaped "surface"; the bed's 28 degrees must come out.
+  FrameData f = drum_bed(28);
+  const double r = 0.0003, R = 0.02;
+  for (int layer = 0; layer < 3; ++layer)
+    for (int a = 0; a < 400; ++a)
+      for (int k = 0; k < 16; ++k) {
+        const double phi = 2 * kPi * (a + 0.5 * layer) / 400, rho = R - r - 2 * r * layer;
+        add(f, rho * std::cos(phi), -0.005 + 0.000625 * (k + 0.5), rho * std::sin(phi), r);
+      }
+  for (int k = 0; k < 40; ++k)
+    add(f, 0.0005 * (k % 8), -0.004 + 0.0008 * (k / 8), R - 7 * r - 2 * r * (k % 3), r);
+  const DrumFit fit = drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, R, 0.0012, 0.6);
   EXPECT_NEAR(fit.angle_deg, 28, 1.0);
   EXPECT_GT(fit.cells_used, 10u);
 }
