@@ -30,7 +30,9 @@ class Result:
     def __init__(self, path):
         self.f = h5py.File(path, "r")
         self.names = sorted(self.f["frames"].keys())
-        self.series = {k: self.f["series"][k][()] for k in self.f["series"].keys() if k != "wall_force"}
+        # The per-wall groups (wall_force, wall_torque) are not series of their own.
+        s = self.f["series"]
+        self.series = {k: s[k][()] for k in s.keys() if isinstance(s[k], h5py.Dataset)}
 
     def frame(self, index):
         g = self.f["frames"][self.names[index]]
