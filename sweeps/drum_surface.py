@@ -85,8 +85,17 @@ def run_files(rundir):
     return parts + [os.path.join(rundir, "run.h5")]
 
 
-def run_series(rundir, drum, t0, t1, **kw):
-    frames = {}  # time -> (file, frame name); a later piece's frame replaces an earlier one of the same time
+def carried_fraction(pos, rad, drum):
+    """The mass fraction above the drum's axis: powder carried up the wall and over the top (the bed of a
+    drum filled 0.14 lies below the axis)."""
+    center, _, up, _ = drum
+    mass = rad**3
+    return mass[(pos - center) @ up > 0].sum() / mass.sum()
+
+
+def frames_of(rundir, t0, t1):
+    """{time: (file, frame)}: a later piece's frame replaces an earlier one of the same time."""
+    frames = {}
     for fn in run_files(rundir):
         if not os.path.exists(fn):
             continue
@@ -95,19 +104,30 @@ def run_series(rundir, drum, t0, t1, **kw):
                 t = round(float(f["frames"][name].attrs["time"]), 9)
                 if t0 <= t <= t1:
                     frames[t] = (fn, name)
-    times, angles = [], []
+    return frames
+
+
+def run_series(rundir, drum, t0, t1, **kw):
+    frames = frames_of(rundir, t0, t1)
+    times, angles, carried = [], [], []
     for t in sorted(frames):
         fn, name = frames[t]
         with h5py.File(fn, "r") as f:
             g = f["frames"][name]
-            angle, _ = frame_angle(g["position"][:], g["radius"][:], drum, **kw)
+            pos, rad = g["position"][:], g["radius"][:]
         times.append(t)
-        angles.append(angle)
-    return np.array(times), np.array(angles)
+        angles.append(frame_angle(pos, rad, drum, **kw)[0])
+        carried.append(carried_fraction(pos, rad, drum))
+    return np.array(times), np.array(angles), np.array(carried)
 
 
 def law_of(run):
     return "reference" if run.startswith("reference") else re.sub(r"_s\d+$", "", run)
+
+
+def summary(values):
+    v = np.array(values)
+    return v.mean(), v.std(ddof=1) if len(v) > 1 else float("nan")
 
 
 def main():
@@ -120,54 +140,94 @@ def main():
     ap.add_argument("--cell-factor", type=float, default=4.0, help="cell width in largest radii")
     ap.add_argument("--wall-layer", type=float, default=1.5, help="dropped wall layer in cells")
     ap.add_argument("--bed-fraction", type=float, default=0.2, help="solid fraction of a bed cell")
-    ap.add_argument("--png", help="angle against time of every run (the whole run, window marked)")
-    ap.add_argument("--csv", help="every frame's angle of every run")
+    ap.add_argument("--png", help="angle and carried mass against time of every run (window shaded)")
+    ap.add_argument("--csv", help="every frame's angle and carried mass fraction of every run")
+    ap.add_argument("--frames-png", help="cross-sections of the reference and each law's first seed at --at")
+    ap.add_argument("--at", type=float, nargs="+", default=[3.0], help="times (s) of --frames-png")
     a = ap.parse_args()
     drum = drum_of(a.scene)
     kw = dict(cell_factor=a.cell_factor, wall_layer=a.wall_layer, bed_fraction=a.bed_fraction, fit_fraction=a.fit_fraction)
     runs = sorted(d for d in os.listdir(os.path.join(a.sweep_dir, "runs")) if not d.startswith("."))
-    series = {r: run_series(os.path.join(a.sweep_dir, "runs", r), drum, 0 if a.png or a.csv else a.t0, a.t1, **kw) for r in runs}
+    whole = a.png or a.csv
+    series = {r: run_series(os.path.join(a.sweep_dir, "runs", r), drum, 0 if whole else a.t0, a.t1, **kw) for r in runs}
+    print(f"window {a.t0}-{a.t1} s; cell {a.cell_factor} radii, wall layer {a.wall_layer} cells, "
+          f"bed fraction {a.bed_fraction}, fit fraction {a.fit_fraction}")
+    print("run, frames, mean angle (deg), its std over the window, fitless frames, mean carried mass fraction")
     per_run = {}
-    print(f"window {a.t0}-{a.t1} s; cell {a.cell_factor} radii, wall layer {a.wall_layer} cells, bed fraction {a.bed_fraction}, fit fraction {a.fit_fraction}")
-    print("run, frames, mean angle (deg), std over the window")
     for r in runs:
-        t, ang = series[r]
-        sel = ang[(t >= a.t0) & (t <= a.t1) & np.isfinite(ang)]
-        per_run[r] = (sel.mean() if len(sel) else float("nan"), sel.std(ddof=1) if len(sel) > 1 else float("nan"), len(sel))
-        print(f"{r}, {len(sel)}, {per_run[r][0]:.2f}, {per_run[r][1]:.2f}")
+        t, ang, car = series[r]
+        w = (t >= a.t0) & (t <= a.t1)
+        ok = w & np.isfinite(ang)
+        mean, std = summary(ang[ok]) if ok.any() else (float("nan"), float("nan"))
+        per_run[r] = (mean, car[w].mean())
+        print(f"{r}, {w.sum()}, {mean:.2f}, {std:.2f}, {(w & ~np.isfinite(ang)).sum()}, {car[w].mean():.3f}")
     laws = {}
     for r in runs:
-        laws.setdefault(law_of(r), []).append(per_run[r][0])
-    ref = np.mean(laws.get("reference", [float("nan")]))
-    print("law, seeds, mean over seeds (deg), seed sd, error of the mean, scatter (sd / reference)")
+        laws.setdefault(law_of(r), []).append(per_run[r])
+    ref_angle, ref_carried = summary([x[0] for x in laws["reference"]])[0], summary([x[1] for x in laws["reference"]])[0]
+    print("law, seeds, angle mean over seeds (deg), seed sd, error, scatter (sd / reference), "
+          "carried mean, seed sd, error")
     for law, vals in laws.items():
-        v = np.array(vals)
-        sd = v.std(ddof=1) if len(v) > 1 else float("nan")
-        print(f"{law}, {len(v)}, {v.mean():.2f}, {sd:.2f}, {100 * (v.mean() - ref) / ref:+.1f} %, {100 * sd / ref:.1f} %")
+        am, asd = summary([x[0] for x in vals])
+        cm, csd = summary([x[1] for x in vals])
+        print(f"{law}, {len(vals)}, {am:.2f}, {asd:.2f}, {100 * (am - ref_angle) / ref_angle:+.1f} %, "
+              f"{100 * asd / ref_angle:.1f} %, {cm:.3f}, {csd:.3f}, {100 * (cm - ref_carried) / ref_carried:+.0f} %")
     if a.csv:
         with open(a.csv, "w") as out:
-            out.write("run,time,angle_deg\n")
+            out.write("run,time,angle_deg,carried_mass_fraction\n")
             for r in runs:
-                for t, ang in zip(*series[r]):
-                    out.write(f"{r},{t:.6g},{ang:.6g}\n")
-    if a.png:
+                for t, ang, car in zip(*series[r]):
+                    out.write(f"{r},{t:.6g},{ang:.6g},{car:.6g}\n")
+    if a.png or a.frames_png:
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
-
-        fig, ax = plt.subplots(figsize=(10, 5))
+    if a.png:
+        fig, ax = plt.subplots(2, 1, figsize=(10, 8), sharex=True)
         for r in runs:
-            t, ang = series[r]
+            t, ang, car = series[r]
             ref_run = law_of(r) == "reference"
-            ax.plot(t, ang, color="black" if ref_run else None, lw=1.6 if ref_run else 0.8, label=r)
-        ax.axvspan(a.t0, min(a.t1, max(t.max() for t, _ in series.values())), color="0.9", zorder=0)
-        ax.set_xlabel("time (s)")
-        ax.set_ylabel("bed surface angle (deg)")
-        ax.set_title(os.path.basename(os.path.normpath(a.sweep_dir)) + ": averaging window shaded")
-        ax.legend(fontsize=7, ncol=2)
+            style = dict(color="black" if ref_run else None, lw=1.6 if ref_run else 0.8, label=r)
+            ax[0].plot(t, ang, **style)
+            ax[1].plot(t, car, **style)
+        for x in ax:
+            x.axvspan(a.t0, min(a.t1, max(s[0].max() for s in series.values())), color="0.9", zorder=0)
+        ax[0].set_ylabel("bed surface angle (deg)")
+        ax[1].set_ylabel("mass fraction above the axis")
+        ax[1].set_xlabel("time (s)")
+        ax[0].set_title(os.path.basename(os.path.normpath(a.sweep_dir)) + ": averaging window shaded")
+        ax[0].legend(fontsize=7, ncol=2)
         fig.tight_layout()
         fig.savefig(a.png, dpi=110)
+    if a.frames_png:
+        shown = [r for r in runs if law_of(r) == "reference"][:1]
+        shown += [next(r for r in runs if law_of(r) == law) for law in laws if law != "reference"]
+        center, axis, up, radius = drum
+        eu = np.cross(up, axis)
+        fig, ax = plt.subplots(len(a.at), len(shown), figsize=(3.2 * len(shown), 3.2 * len(a.at)), squeeze=False)
+        for j, r in enumerate(shown):
+            frames = frames_of(os.path.join(a.sweep_dir, "runs", r), 0, float("inf"))
+            for i, t_at in enumerate(a.at):
+                t = min(frames, key=lambda x: abs(x - t_at))
+                fn, name = frames[t]
+                with h5py.File(fn, "r") as f:
+                    g = f["frames"][name]
+                    pos, rad = g["position"][:], g["radius"][:]
+                d = pos - center
+                x = ax[i][j]
+                points_per_mm = 2.9 * 72 / (2.1e3 * radius)  # a panel ~2.9 inches across 2.1 drum radii
+                x.scatter(1e3 * (d @ eu), 1e3 * (d @ up), s=(2e3 * rad * points_per_mm) ** 2, lw=0, color="C0")
+                x.add_patch(plt.Circle((0, 0), 1e3 * radius, fill=False, color="0.4"))
+                angle = frame_angle(pos, rad, drum, **kw)[0]
+                x.set_title(f"{r}, t = {t:.2f} s\nangle {angle:.1f} deg, above axis {carried_fraction(pos, rad, drum):.2f}", fontsize=8)
+                x.set_xlim(-1.05e3 * radius, 1.05e3 * radius)
+                x.set_ylim(-1.05e3 * radius, 1.05e3 * radius)
+                x.set_aspect("equal")
+                x.set_xticks([])
+                x.set_yticks([])
+        fig.tight_layout()
+        fig.savefig(a.frames_png, dpi=110)
 
 
 if __name__ == "__main__":
