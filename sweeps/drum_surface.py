@@ -7,14 +7,16 @@ least squares line through the central fit fraction), its mean and standard devi
 and each law's mean over the seeds against the reference's.
 
     /usr/bin/python3 sweeps/drum_surface.py SWEEP_DIR --scene sweeps/chen_drum_paper.yaml --from 1.5 --to 7.5 \\
-        [--fit-fraction 0.6] [--cell-factor 4] [--wall-layer 1.5] [--bed-fraction 0.2] [--png angle_time.png] \\
-        [--csv angles.csv]
+        [--fit-fraction 0.6] [--cell-factor 4] [--wall-layer 1.5] [--bed-fraction 0.2] \\
+        [--png angle_time.png] [--csv angles.csv] [--frames-png cross_sections.png --at 2 4 7]
 
-Reads SWEEP_DIR/runs/<run>/run.part<N>.h5 then run.h5 (a run continued from checkpoints) and the drum
-(the scene's first `drum_angle` analysis: its wall's point, axis and radius; gravity gives "up").
---cell-factor, --wall-layer and --bed-fraction vary the cell width (in largest radii), the dropped wall layer
-(in cells) and the solid fraction of a bed cell, to show how much of an angle is the method's. It recomputes what the runs' own analysis
-computes, and serves for runs made before that analysis ignored the powder coating the drum's wall.
+Reads SWEEP_DIR/runs/<run>/run.part<N>.h5 then run.h5 (a run continued from checkpoints) of every run with a
+record in SWEEP_DIR/records (a finished run), and the drum from the scene (its first `drum_angle` analysis:
+the wall's point, axis and radius; gravity gives "up"). Besides the angle it reports the mass fraction above
+the drum's axis: powder stuck to the wall and carried over the top. --cell-factor, --wall-layer and
+--bed-fraction vary the cell width (in largest radii), the dropped wall layer (in cells) and the solid
+fraction of a bed cell, to show how much of an angle is the method's. It computes what the runs' own
+analysis computes, also for runs whose records hold an angle from another method.
 """
 import argparse
 import glob
@@ -40,12 +42,12 @@ def drum_of(scene_path):
     g = np.array(scene["gravity"], float)
     up = -(g - g.dot(axis) * axis)
     up /= np.linalg.norm(up)
-    return np.array(wall["point"], float), axis, up, float(wall["radius"])
+    return np.array(wall["point"], float), axis, up, float(wall["radius"]), float(wall.get("length", 0)), bool(wall.get("caps", False))
 
 
 def frame_angle(pos, rad, drum, cell_factor=4.0, wall_layer=1.5, bed_fraction=0.2, fit_fraction=0.6):
     """The engine's drum_angle of one frame: (angle in degrees, points fitted)."""
-    center, axis, up, drum_radius = drum
+    center, axis, up, drum_radius = drum[:4]
     cell = cell_factor * rad.max()
     d = pos - center
     u, v, w = d @ np.cross(up, axis), d @ up, d @ axis
@@ -85,12 +87,16 @@ def run_files(rundir):
     return parts + [os.path.join(rundir, "run.h5")]
 
 
-def carried_fraction(pos, rad, drum):
-    """The mass fraction above the drum's axis: powder carried up the wall and over the top (the bed of a
-    drum filled 0.14 lies below the axis)."""
-    center, _, up, _ = drum
-    mass = rad**3
-    return mass[(pos - center) @ up > 0].sum() / mass.sum()
+def carried(pos, rad, drum):
+    """The mass fraction above the drum's axis (powder carried up the wall and over the top; the bed of a
+    drum filled 0.14 lies below the axis), and that powder as a layer on the wall above the axis (the upper
+    half of the shell and of the caps), in particle diameters: the same for two sizes when each keeps the
+    same number of particle layers on the wall."""
+    center, _, up, radius, length, caps = drum
+    volume = 4.0 / 3.0 * math.pi * rad**3
+    above = volume[(pos - center) @ up > 0].sum()
+    area = math.pi * radius * length + (math.pi * radius**2 if caps else 0.0)
+    return above / volume.sum(), above / area / (2 * rad.max()) if area > 0 else float("nan")
 
 
 def frames_of(rundir, t0, t1):
@@ -109,7 +115,7 @@ def frames_of(rundir, t0, t1):
 
 def run_series(rundir, drum, t0, t1, **kw):
     frames = frames_of(rundir, t0, t1)
-    times, angles, carried = [], [], []
+    times, angles, fractions, layers = [], [], [], []
     for t in sorted(frames):
         fn, name = frames[t]
         with h5py.File(fn, "r") as f:
@@ -117,8 +123,10 @@ def run_series(rundir, drum, t0, t1, **kw):
             pos, rad = g["position"][:], g["radius"][:]
         times.append(t)
         angles.append(frame_angle(pos, rad, drum, **kw)[0])
-        carried.append(carried_fraction(pos, rad, drum))
-    return np.array(times), np.array(angles), np.array(carried)
+        fraction, layer = carried(pos, rad, drum)
+        fractions.append(fraction)
+        layers.append(layer)
+    return np.array(times), np.array(angles), np.array(fractions), np.array(layers)
 
 
 def law_of(run):
@@ -147,24 +155,30 @@ def main():
     a = ap.parse_args()
     drum = drum_of(a.scene)
     kw = dict(cell_factor=a.cell_factor, wall_layer=a.wall_layer, bed_fraction=a.bed_fraction, fit_fraction=a.fit_fraction)
-    runs = sorted(d for d in os.listdir(os.path.join(a.sweep_dir, "runs")) if not d.startswith("."))
+    # The finished runs: those with a record (a run still going, or killed, has frames but no record).
+    records = os.path.join(a.sweep_dir, "records")
+    runs = sorted(d for d in os.listdir(os.path.join(a.sweep_dir, "runs"))
+                  if not d.startswith(".") and (not os.path.isdir(records) or os.path.exists(os.path.join(records, d + ".txt"))))
     whole = a.png or a.csv
     series = {r: run_series(os.path.join(a.sweep_dir, "runs", r), drum, 0 if whole else a.t0, a.t1, **kw) for r in runs}
     print(f"window {a.t0}-{a.t1} s; cell {a.cell_factor} radii, wall layer {a.wall_layer} cells, "
           f"bed fraction {a.bed_fraction}, fit fraction {a.fit_fraction}")
-    print("run, frames, mean angle (deg), its std over the window, fitless frames, mean carried mass fraction")
+    print("run, frames, mean angle (deg), its std over the window, fitless frames, mean mass fraction above "
+          "the axis, as a layer on the wall (diameters)")
     per_run = {}
     for r in runs:
-        t, ang, car = series[r]
+        t, ang, car, lay = series[r]
         w = (t >= a.t0) & (t <= a.t1)
         ok = w & np.isfinite(ang)
         mean, std = summary(ang[ok]) if ok.any() else (float("nan"), float("nan"))
         per_run[r] = (mean, car[w].mean())
-        print(f"{r}, {w.sum()}, {mean:.2f}, {std:.2f}, {(w & ~np.isfinite(ang)).sum()}, {car[w].mean():.3f}")
+        print(f"{r}, {w.sum()}, {mean:.2f}, {std:.2f}, {(w & ~np.isfinite(ang)).sum()}, {car[w].mean():.3f}, "
+              f"{lay[w].mean():.3f}")
     laws = {}
     for r in runs:
         laws.setdefault(law_of(r), []).append(per_run[r])
-    ref_angle, ref_carried = summary([x[0] for x in laws["reference"]])[0], summary([x[1] for x in laws["reference"]])[0]
+    reference = laws.get("reference", [(float("nan"), float("nan"))])  # nan errors until a reference is done
+    ref_angle, ref_carried = summary([x[0] for x in reference])[0], summary([x[1] for x in reference])[0]
     print("law, seeds, angle mean over seeds (deg), seed sd, error, scatter (sd / reference), "
           "carried mean, seed sd, error")
     for law, vals in laws.items():
@@ -174,10 +188,10 @@ def main():
               f"{100 * asd / ref_angle:.1f} %, {cm:.3f}, {csd:.3f}, {100 * (cm - ref_carried) / ref_carried:+.0f} %")
     if a.csv:
         with open(a.csv, "w") as out:
-            out.write("run,time,angle_deg,carried_mass_fraction\n")
+            out.write("run,time,angle_deg,mass_fraction_above_axis,layer_above_axis_diameters\n")
             for r in runs:
-                for t, ang, car in zip(*series[r]):
-                    out.write(f"{r},{t:.6g},{ang:.6g},{car:.6g}\n")
+                for t, ang, car, lay in zip(*series[r]):
+                    out.write(f"{r},{t:.6g},{ang:.6g},{car:.6g},{lay:.6g}\n")
     if a.png or a.frames_png:
         import matplotlib
 
@@ -186,7 +200,7 @@ def main():
     if a.png:
         fig, ax = plt.subplots(2, 1, figsize=(10, 8), sharex=True)
         for r in runs:
-            t, ang, car = series[r]
+            t, ang, car, _ = series[r]
             ref_run = law_of(r) == "reference"
             style = dict(color="black" if ref_run else None, lw=1.6 if ref_run else 0.8, label=r)
             ax[0].plot(t, ang, **style)
@@ -203,7 +217,7 @@ def main():
     if a.frames_png:
         shown = [r for r in runs if law_of(r) == "reference"][:1]
         shown += [next(r for r in runs if law_of(r) == law) for law in laws if law != "reference"]
-        center, axis, up, radius = drum
+        center, axis, up, radius = drum[:4]
         eu = np.cross(up, axis)
         fig, ax = plt.subplots(len(a.at), len(shown), figsize=(3.2 * len(shown), 3.2 * len(a.at)), squeeze=False)
         for j, r in enumerate(shown):
@@ -220,7 +234,7 @@ def main():
                 x.scatter(1e3 * (d @ eu), 1e3 * (d @ up), s=(2e3 * rad * points_per_mm) ** 2, lw=0, color="C0")
                 x.add_patch(plt.Circle((0, 0), 1e3 * radius, fill=False, color="0.4"))
                 angle = frame_angle(pos, rad, drum, **kw)[0]
-                x.set_title(f"{r}, t = {t:.2f} s\nangle {angle:.1f} deg, above axis {carried_fraction(pos, rad, drum):.2f}", fontsize=8)
+                x.set_title(f"{r}, t = {t:.2f} s\nangle {angle:.1f} deg, above axis {carried(pos, rad, drum)[0]:.2f}", fontsize=8)
                 x.set_xlim(-1.05e3 * radius, 1.05e3 * radius)
                 x.set_ylim(-1.05e3 * radius, 1.05e3 * radius)
                 x.set_aspect("equal")
