@@ -745,24 +745,29 @@ LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y) {
   return fit;
 }
 
-PlaneFit fit_plane(const std::vector<std::array<double, 3>>& points) {
-  PlaneFit fit;
+TiltFit fit_tilt(const std::vector<std::array<double, 2>>& points) {
+  TiltFit fit;
   fit.n = points.size();
-  if (fit.n < 3) return fit;
-  Eigen::MatrixXd m(fit.n, 3);
-  for (std::size_t i = 0; i < fit.n; ++i)
-    for (int k = 0; k < 3; ++k)
-      m(i, k) = points[i][k];
-  const Eigen::RowVector3d c = m.colwise().mean();
-  m.rowwise() -= c;
-  Eigen::JacobiSVD<Eigen::MatrixXd> svd(m, Eigen::ComputeThinV);
-  Eigen::Vector3d n = svd.matrixV().col(2);
-  if (n(2) < 0) n = -n;
-  for (int k = 0; k < 3; ++k) {
-    fit.normal[k] = n(k);
-    fit.centroid[k] = c(k);
+  if (fit.n < 2) return fit;
+  double mx = 0, my = 0;
+  for (const auto& p : points) {
+    mx += p[0];
+    my += p[1];
   }
-  fit.rms = std::sqrt((m * n).squaredNorm() / fit.n);
+  mx /= fit.n;
+  my /= fit.n;
+  double sxx = 0, syy = 0, sxy = 0;
+  for (const auto& p : points) {
+    sxx += (p[0] - mx) * (p[0] - mx);
+    syy += (p[1] - my) * (p[1] - my);
+    sxy += (p[0] - mx) * (p[1] - my);
+  }
+  sxx /= fit.n;
+  syy /= fit.n;
+  sxy /= fit.n;
+  fit.angle_deg = std::abs(0.5 * std::atan2(2 * sxy, sxx - syy)) * 180 / kPi;
+  const double smallest = 0.5 * (sxx + syy) - std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy);
+  fit.rms = std::sqrt(std::max(0.0, smallest));
   return fit;
 }
 
@@ -931,28 +936,11 @@ DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, cons
   std::vector<std::array<double, 2>> pts;
   for (const auto& p : surface)
     if (std::abs(p[0] - mid) <= half) pts.push_back(p);
-  fit.cells_used = pts.size();
-  if (pts.size() < 2) return fit;
-  // Total least squares line: the principal axis of the points' covariance.
-  double mu = 0, mv = 0;
-  for (const auto& p : pts) {
-    mu += p[0];
-    mv += p[1];
-  }
-  mu /= pts.size();
-  mv /= pts.size();
-  double suu = 0, svv = 0, suv = 0;
-  for (const auto& p : pts) {
-    suu += (p[0] - mu) * (p[0] - mu);
-    svv += (p[1] - mv) * (p[1] - mv);
-    suv += (p[0] - mu) * (p[1] - mv);
-  }
-  suu /= pts.size();
-  svv /= pts.size();
-  suv /= pts.size();
-  fit.angle_deg = std::abs(0.5 * std::atan2(2 * suv, suu - svv)) * 180 / kPi;
-  const double smallest = 0.5 * (suu + svv) - std::sqrt(0.25 * (suu - svv) * (suu - svv) + suv * suv);
-  fit.rms = std::sqrt(std::max(0.0, smallest));
+  const TiltFit line = fit_tilt(pts);
+  fit.cells_used = line.n;
+  if (line.n < 2) return fit;
+  fit.angle_deg = line.angle_deg;
+  fit.rms = line.rms;
   return fit;
 }
 

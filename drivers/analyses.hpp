@@ -108,14 +108,14 @@ struct LineFit {
 // Ordinary least squares y = intercept + slope x (Eigen); n < 2 gives a zero fit with n set.
 LineFit fit_line(const std::vector<double>& x, const std::vector<double>& y);
 
-struct PlaneFit {
-  std::array<double, 3> normal{0, 0, 1}; // unit; sign chosen so that normal[2] >= 0
-  std::array<double, 3> centroid{0, 0, 0};
-  double rms = 0; // rms distance of the points from the plane
+struct TiltFit {
+  double angle_deg = 0; // the line's tilt from the x axis, 0-90 degrees
+  double rms = 0;       // rms distance of the points from the line
   std::size_t n = 0;
 };
-// Total least squares plane through the points (smallest singular vector of the centred points).
-PlaneFit fit_plane(const std::vector<std::array<double, 3>>& points);
+// Total least squares line through the points (x, y): the principal axis of their covariance. n < 2 gives
+// a zero fit with n set.
+TiltFit fit_tilt(const std::vector<std::array<double, 2>>& points);
 
 struct PileFit {
   double angle_deg = 0, height = 0, foot_radius = 0, r2 = 0;

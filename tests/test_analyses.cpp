@@ -171,15 +171,20 @@ TEST(Analyses, ProbabilityDensityIntegratesToOne) {
   EXPECT_NEAR(pdf[1], 2.5, 1e-12); // 1 of 4 samples in a bin 0.1 wide
 }
 
-TEST(Analyses, PlaneOfKnownTilt) {
-  std::vector<std::array<double, 3>> pts;
-  const double t = std::tan(20 * kPi / 180);
-  for (int i = 0; i < 10; ++i)
-    for (int j = 0; j < 5; ++j)
-      pts.push_back({0.001 * i, 0.002 * j, 0.3 + 0.001 * i * t});
-  const PlaneFit p = fit_plane(pts);
-  EXPECT_NEAR(std::atan2(std::abs(p.normal[0]), p.normal[2]) * 180 / kPi, 20, 1e-9);
-  EXPECT_NEAR(p.rms, 0, 1e-12);
+TEST(Analyses, LineOfKnownTilt) {
+  for (double tilt : {20.0, -35.0, 70.0}) {
+    std::vector<std::array<double, 2>> pts;
+    const double t = std::tan(tilt * kPi / 180);
+    for (int i = 0; i < 10; ++i)
+      pts.push_back({0.001 * i, 0.3 + 0.001 * i * t});
+    const TiltFit line = fit_tilt(pts);
+    EXPECT_NEAR(line.angle_deg, std::abs(tilt), 1e-9);
+    EXPECT_NEAR(line.rms, 0, 1e-12);
+  }
+  // Pairs of points d above and below the x axis: the line is the axis, at rms distance d.
+  const TiltFit off = fit_tilt({{0, 0.001}, {0, -0.001}, {1, 0.001}, {1, -0.001}, {2, 0.001}, {2, -0.001}});
+  EXPECT_NEAR(off.angle_deg, 0, 1e-9);
+  EXPECT_NEAR(off.rms, 0.001, 1e-12);
 }
 
 // Drum along y through the origin, gravity -z, radius 20 mm: a bed below the line z = tan(tilt) x - 0.004
