@@ -19,7 +19,6 @@ fraction of a bed cell, to show how much of an angle is the method's. It compute
 analysis computes, also for runs whose records hold an angle from another method.
 """
 import argparse
-import glob
 import math
 import os
 import re
@@ -31,6 +30,7 @@ try:
     import yaml
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"drum_surface.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, -numpy, -yaml)")
+from run_pieces import run_pieces
 
 
 def drum_of(scene_path):
@@ -82,11 +82,6 @@ def frame_angle(pos, rad, drum, cell_factor=4.0, wall_layer=1.5, bed_fraction=0.
     return abs(math.degrees(0.5 * math.atan2(2 * suv, suu - svv))), len(p)
 
 
-def run_files(rundir):
-    parts = sorted(glob.glob(os.path.join(rundir, "run.part*.h5")), key=lambda s: int(re.findall(r"part(\d+)", s)[-1]))
-    return parts + [os.path.join(rundir, "run.h5")]
-
-
 def carried(pos, rad, drum):
     """The mass fraction above the drum's axis (powder carried up the wall and over the top; the bed of a
     drum filled 0.14 lies below the axis), and that powder as a layer on the wall above the axis (the upper
@@ -102,9 +97,7 @@ def carried(pos, rad, drum):
 def frames_of(rundir, t0, t1):
     """{time: (file, frame)}: a later piece's frame replaces an earlier one of the same time."""
     frames = {}
-    for fn in run_files(rundir):
-        if not os.path.exists(fn):
-            continue
+    for fn in run_pieces(rundir):
         with h5py.File(fn, "r") as f:
             for name in f["frames"]:
                 t = round(float(f["frames"][name].attrs["time"]), 9)

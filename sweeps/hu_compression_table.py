@@ -32,6 +32,7 @@ try:
     import matplotlib.pyplot as plt
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"hu_compression_table.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-matplotlib)")
+from run_pieces import run_pieces
 
 NAMES = {"none": "original", "hu_method1": "Method 1", "hu_method2": "Method 2", "hu_method3": "Method 3"}
 
@@ -75,11 +76,10 @@ def read_run(d):
     when the run's files are gone."""
     t, strain, stress = [], [], []
     particles = None
-    if not glob.glob(os.path.join(d, "run*.h5")):
+    pieces = run_pieces(d)  # the compression stage's pieces (its first stage is the filling)
+    if not pieces:
         return None
-    for path in sorted(glob.glob(os.path.join(d, "run.part*.h5"))) + [os.path.join(d, "run.h5")]:
-        if not os.path.exists(path):
-            continue
+    for path in pieces:
         with h5py.File(path, "r") as f:
             s = f["series"]
             for a, b, c in zip(s["time"][:], s["stress_strain"][:], s["stress"][:]):

@@ -22,6 +22,7 @@ try:
     import matplotlib.pyplot as plt
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"plot_curves.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-matplotlib)")
+from run_pieces import run_pieces
 
 
 def main():
@@ -45,16 +46,10 @@ def main():
     fig, ax = plt.subplots(figsize=(7, 4.5))
     drawn = 0
     for run in runs:
-        path = os.path.join(runs_dir, run, "run.h5")
-        if not os.path.exists(path):
+        if not os.path.exists(os.path.join(runs_dir, run, "run.h5")):
             continue
-        parts = sorted((p for p in os.listdir(os.path.join(runs_dir, run)) if p.startswith("run.part") and p.endswith(".h5")),
-                       key=lambda p: int(p[len("run.part"):-3]))
         t, x, y = [], [], []
-        # A two-stage run (cgdem sweep --first-stage) begins with its first stage's file.
-        first = [os.path.join(runs_dir, run, "first_stage.h5")]
-        first = first if os.path.exists(first[0]) else []
-        for piece in first + [os.path.join(runs_dir, run, p) for p in parts] + [path]:
+        for piece in run_pieces(os.path.join(runs_dir, run), with_first_stage=True):
             with h5py.File(piece, "r") as f:
                 s = f["series"]
                 if a.x not in s or a.y not in s:

@@ -1,0 +1,18 @@
+"""The HDF5 files of one run of a sweep, in time order (shared by the sweep scripts).
+
+A run continued from checkpoints over several sittings leaves run.part1.h5, run.part2.h5, ... beside the
+last piece's run.h5 (docs/sweeps.md, "Runs longer than a sitting"); a two-stage run (cgdem sweep
+--first-stage) begins with first_stage.h5. A piece starts at its checkpoint, so consecutive pieces may
+hold the same frame time: readers keep one.
+"""
+import os
+import re
+
+
+def run_pieces(rundir, with_first_stage=False):
+    """The existing files of the run in `rundir`, oldest first: first_stage.h5 (when asked for), the
+    run.part<N>.h5 in the order of N, then run.h5."""
+    names = os.listdir(rundir) if os.path.isdir(rundir) else []
+    parts = sorted((n for n in names if re.fullmatch(r"run\.part\d+\.h5", n)), key=lambda n: int(n[8:-3]))
+    files = (["first_stage.h5"] if with_first_stage else []) + parts + ["run.h5"]
+    return [os.path.join(rundir, n) for n in files if os.path.exists(os.path.join(rundir, n))]
