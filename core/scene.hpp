@@ -82,6 +82,10 @@ struct CoarseGrainSpec {
   // Hu Method 1 only: the interparticle torque scales as l^torque_power (2: Hu eq 30; 3: rotational
   // similarity with t_S = l t_O). 0: the method's own exponent.
   int torque_power = 0;
+  // chen_elliott, bond, cohesion: the surface energy scales as k^surface_energy_power instead of the law's
+  // own exponent (2, 2, 1.6), so the pull-off force scales as k^(p+1); p = 1 keeps the pull-off force per
+  // particle cross-section, hence a packing's cohesive strength (docs/coarse_graining.md). < 0: the law's.
+  double surface_energy_power = -1;
 };
 
 struct SizeSpec {

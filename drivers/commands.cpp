@@ -559,9 +559,11 @@ int check_command(const std::vector<std::string>& args) {
       for (int gi : p.particles.group)
         count += gi == static_cast<int>(g);
       const auto& cg = p.scene.groups[g].coarse_grain;
-      std::printf("  group %-10s %zu particles, material %s, coarse-graining %s (k = %g)\n",
+      std::printf("  group %-10s %zu particles, material %s, coarse-graining %s (k = %g",
                   p.scene.groups[g].name.c_str(), count, p.scene.groups[g].material.c_str(), cg.law.c_str(),
                   cg.factor);
+      if (cg.surface_energy_power >= 0) std::printf(", surface energy ~ k^%g", cg.surface_energy_power);
+      std::printf(")\n");
     }
     std::printf("walls        %zu named, %zu parts\n", p.config.wall_names.size(), p.config.walls.size());
     for (const WallSpec& w : p.scene.walls)

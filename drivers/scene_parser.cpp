@@ -722,7 +722,7 @@ struct Parser {
     opt_num(ctx, m, "velocity_random", g.velocity_random);
     non_negative(ctx, m, "velocity_random", g.velocity_random, "give a speed >= 0 in m/s");
     if (m.has("coarse_grain")) {
-      MapView c(ctx, m.get("coarse_grain"), {"law", "factor", "torque_power"});
+      MapView c(ctx, m.get("coarse_grain"), {"law", "factor", "torque_power", "surface_energy_power"});
       const Field lf = c.require("law", "give law: " + join(kCoarseLaws, " | "));
       g.coarse_grain.law = as_choice(ctx, lf, kCoarseLaws, "coarse_grain law");
       if (index == 0) coarse_law_mark = lf.mark;
@@ -748,6 +748,20 @@ struct Parser {
               c.get("torque_power"),
               "torque_power " + std::to_string(g.coarse_grain.torque_power) + " is not 2 or 3",
               "use 2 (Hu eq 30, M_S = l^2 M_O) or 3 (rotational similarity, M_S = l^3 M_O)");
+      }
+      if (c.has("surface_energy_power")) {
+        const std::string& law = g.coarse_grain.law;
+        if (law != "chen_elliott" && law != "bond" && law != "cohesion")
+          ctx.fail(c.sub("surface_energy_power"), c.get("surface_energy_power").mark,
+                   "surface_energy_power applies to the laws that scale the surface energy (chen_elliott, "
+                   "bond, cohesion), not to " +
+                       law,
+                   "remove surface_energy_power");
+        g.coarse_grain.surface_energy_power = as_num(ctx, c.get("surface_energy_power"));
+        check(ctx, g.coarse_grain.surface_energy_power >= 0 && g.coarse_grain.surface_energy_power <= 3,
+              c.get("surface_energy_power"),
+              "surface_energy_power " + num_str(g.coarse_grain.surface_energy_power) + " is outside 0-3",
+              "give the exponent p of gamma ~ k^p, e.g. 1 to keep the pull-off force per cross-section");
       }
     }
     if (!from_file && g.placement.kind == "lattice" && g.placement.spacing > 0) {
@@ -780,6 +794,12 @@ struct Parser {
         ctx.fail("groups." + std::to_string(i) + ".coarse_grain.torque_power", item(f, i).mark,
                  "coarse_grain torque_power differs from group 0's",
                  "use one torque_power for the whole scene");
+    for (std::size_t i = 1; i < scene.groups.size(); ++i)
+      if (scene.groups[i].coarse_grain.surface_energy_power !=
+          scene.groups[0].coarse_grain.surface_energy_power)
+        ctx.fail("groups." + std::to_string(i) + ".coarse_grain.surface_energy_power", item(f, i).mark,
+                 "coarse_grain surface_energy_power differs from group 0's",
+                 "use one surface_energy_power for the whole scene");
   }
 
   // until_force (N): the segment ends once the particles' force on the wall against its velocity reaches

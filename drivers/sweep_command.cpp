@@ -847,7 +847,15 @@ SweepOptions parse_sweep_options(const std::vector<std::string>& args) {
       }
     } else if (name == "--set")
       o.overrides.push_back(value());
-    else if (name == "--out")
+    else if (name == "--coarse-set") {
+      const std::string v = value();
+      const auto eq = v.find('=');
+      if (eq == 0 || eq == std::string::npos || eq + 1 == v.size() || v.find('.') < eq)
+        throw CliError("--coarse-set expects key=value of the coarse_grain map, e.g. surface_energy_power=1, "
+                       "got '" +
+                       v + "'");
+      o.coarse_sets.push_back(v);
+    } else if (name == "--out")
       o.out = value();
     else if (name == "--threads") {
       const std::string v = value();
@@ -933,6 +941,9 @@ Options:
                          error of the mean against the reference's mean, the seed-to-seed scatter of
                          that difference and whether the error is within it
   --reference-seeds 1,2  the reference's seeds when they differ from --seeds (it is the costly run)
+  --coarse-set key=value an option of the law in every coarse-grained run (repeatable): set in each group's
+                         coarse_grain map after {law, factor}, e.g. --coarse-set surface_energy_power=1
+                         (docs/scene_format.md, groups.coarse_grain); the reference runs without it
   --checkpoint-every T   each run writes a checkpoint every T simulated seconds; started again, the sweep
                          continues an unfinished run from its checkpoint instead of from the start (for
                          runs longer than a sitting: kill the sweep, start the same command later)
@@ -1009,6 +1020,9 @@ int sweep_command(const std::vector<std::string>& args) {
       for (std::size_t g = 0; g < s.scene.groups.size(); ++g) {
         const std::string key = "groups." + std::to_string(g);
         p.sets.push_back(key + ".coarse_grain={law: " + law + ", factor: " + fmt(k) + "}");
+        if (k != 1)
+          for (const auto& c : o.coarse_sets)
+            p.sets.push_back(key + ".coarse_grain." + c);
         const long count = std::max(1L, std::lround(s.scene.groups[g].count / (k * k * k)));
         p.sets.push_back(key + ".count=" + std::to_string(count));
         if (seed >= 0) p.sets.push_back(key + ".placement.seed=" + std::to_string(seed + 1000 * long(g)));
@@ -1099,6 +1113,9 @@ int sweep_command(const std::vector<std::string>& args) {
                  plans.size(), pending.size(),
                  ranks > 1 ? (" on rank 0 of " + std::to_string(ranks) + ", the others alike").c_str() : "",
                  policy.c_str(), threads, s.dir.c_str());
+  if (!o.quiet)
+    for (const auto& c : o.coarse_sets) // not in the runs' names: said once here
+      std::fprintf(stderr, "cgdem sweep: the coarse-grained runs with coarse_grain.%s\n", c.c_str());
   const auto start = std::chrono::steady_clock::now();
   std::atomic<bool> interrupted{false};
   if (policy == "serial") {

@@ -17,9 +17,12 @@ struct SweepOptions {
   std::vector<std::string> laws;
   std::vector<double> factors;        // --k
   std::vector<std::string> overrides; // --set, applied before the sweep's own
-  std::string out = "sweep";          // directory
-  int threads = 0;                    // 0: all hardware threads
-  std::string policy = "auto";        // auto | serial | parallel
+  // --coarse-set: key=value of every group's coarse_grain map in the coarse-grained runs (a law's option,
+  // e.g. surface_energy_power=1), applied after the sweep's {law, factor}; the reference has none.
+  std::vector<std::string> coarse_sets;
+  std::string out = "sweep";   // directory
+  int threads = 0;             // 0: all hardware threads
+  std::string policy = "auto"; // auto | serial | parallel
   bool quiet = false;
   bool plots = true; // --no-plots: skip the python plots
   // --seeds: every case once per seed of the initial packing (groups.<g>.placement.seed = seed + 1000 g);

@@ -57,7 +57,11 @@ double group_scale_factor(const GroupSpec& group) {
   return group.coarse_grain.law == "none" ? 1.0 : group.coarse_grain.factor;
 }
 
-ParameterScaling parameter_scaling(ScalingLaw law, double k) {
+double scene_surface_energy_power(const Scene& scene) {
+  return scene.groups.empty() ? -1 : scene.groups.front().coarse_grain.surface_energy_power;
+}
+
+ParameterScaling parameter_scaling(ScalingLaw law, double k, double surface_energy_power) {
   ParameterScaling s;
   switch (law) {
   case ScalingLaw::ChenElliott: // Chen & Elliott 2020: gamma k^2, E k^2.5
@@ -85,6 +89,8 @@ ParameterScaling parameter_scaling(ScalingLaw law, double k) {
   default:
     break;
   }
+  if (surface_energy_power >= 0 && s.surface_energy != 1)
+    s.surface_energy = std::pow(k, surface_energy_power);
   return s;
 }
 
@@ -114,8 +120,9 @@ void for_each_scaled_parameter(F&& f) {
 }
 } // namespace
 
-MaterialSpec scale_material(const MaterialSpec& original, ScalingLaw law, double k) {
-  const ParameterScaling s = parameter_scaling(law, k);
+MaterialSpec scale_material(const MaterialSpec& original, ScalingLaw law, double k,
+                            double surface_energy_power) {
+  const ParameterScaling s = parameter_scaling(law, k, surface_energy_power);
   MaterialSpec m = original;
   m.surface_energy *= s.surface_energy;
   m.youngs_modulus *= s.youngs_modulus;
@@ -126,8 +133,9 @@ MaterialSpec scale_material(const MaterialSpec& original, ScalingLaw law, double
   return m;
 }
 
-models::PairParameters scale_pair(const models::PairParameters& original, ScalingLaw law, double k) {
-  const ParameterScaling s = parameter_scaling(law, k);
+models::PairParameters scale_pair(const models::PairParameters& original, ScalingLaw law, double k,
+                                  double surface_energy_power) {
+  const ParameterScaling s = parameter_scaling(law, k, surface_energy_power);
   models::PairParameters p = original;
   p.surface_energy *= s.surface_energy;
   p.E_eff *= s.youngs_modulus;
@@ -145,6 +153,7 @@ double pair_scale_factor(double k_i, double k_j) {
 ScaledTables scaled_tables(const Scene& scene) {
   const int nm = static_cast<int>(scene.materials.size());
   const ScalingLaw law = scene_scaling_law(scene);
+  const double gamma_power = scene_surface_energy_power(scene);
   ScaledTables t;
   for (int m = 0; m < nm; ++m)
     t.slots.push_back({m, 1.0});
@@ -168,8 +177,9 @@ ScaledTables scaled_tables(const Scene& scene) {
     for (std::size_t b = 0; b < ns; ++b) {
       const MaterialSlot sa = t.slots[a], sb = t.slots[b];
       const std::size_t orig = static_cast<std::size_t>(sa.material) * nm + sb.material;
-      t.pair_params[a * ns + b] = scale_pair(pairs[orig], law, pair_scale_factor(sa.factor, sb.factor));
-      t.wall_params[a * ns + b] = scale_pair(walls[orig], law, pair_scale_factor(sa.factor, 0));
+      t.pair_params[a * ns + b] =
+          scale_pair(pairs[orig], law, pair_scale_factor(sa.factor, sb.factor), gamma_power);
+      t.wall_params[a * ns + b] = scale_pair(walls[orig], law, pair_scale_factor(sa.factor, 0), gamma_power);
       if (!scene.groups.empty())
         t.pair_params[a * ns + b].torque_power = t.wall_params[a * ns + b].torque_power =
             scene.groups.front().coarse_grain.torque_power;

@@ -58,13 +58,19 @@ struct ParameterScaling {
   double stiffness = 1;      // EEPA k1, k2, k_adh (and k_t = 2/7 k1); linear spring k_n, k_t
   double pull_off = 1;       // EEPA f0
 };
-ParameterScaling parameter_scaling(ScalingLaw law, double k);
+// surface_energy_power >= 0 replaces the exponent of gamma of the laws that scale it (chen_elliott, bond,
+// cohesion: coarse_grain.surface_energy_power); < 0 keeps the law's own.
+ParameterScaling parameter_scaling(ScalingLaw law, double k, double surface_energy_power = -1);
+// The scene's coarse_grain.surface_energy_power (group 0's; the parser makes every group's the same).
+double scene_surface_energy_power(const Scene& scene);
 
 // The law applied to one material (what a coarse particle of factor k is made of).
-MaterialSpec scale_material(const MaterialSpec& original, ScalingLaw law, double k);
+MaterialSpec scale_material(const MaterialSpec& original, ScalingLaw law, double k,
+                            double surface_energy_power = -1);
 // The law applied to the mixed parameters of an original pair at pair factor k; also records k in
 // coarse_grain_factor (for every law).
-models::PairParameters scale_pair(const models::PairParameters& original, ScalingLaw law, double k);
+models::PairParameters scale_pair(const models::PairParameters& original, ScalingLaw law, double k,
+                                  double surface_energy_power = -1);
 // k_ij of the pair rule above; k_j <= 0 is a wall.
 double pair_scale_factor(double k_i, double k_j);
 

@@ -21,6 +21,7 @@ double hertz_contact_time(double m_eff, double r_eff, double e_eff, double speed
 TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   const double inf = std::numeric_limits<double>::infinity();
   const ScalingLaw law = scene_scaling_law(scene);
+  const double gamma_power = scene_surface_energy_power(scene);
   // How the limit is evaluated under coarse-graining: on the original particles (chen_elliott: times 1,
   // hu_method1: times l), or on the coarse particles with the scaled (parameter laws) or equivalent
   // (hu_method2/3, sakai) contact.
@@ -74,7 +75,7 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
   // Parameters the limit is evaluated with, for an original pair P at pair factor k.
   const auto evaluated = [&](const models::PairParameters& P, double k) {
     if (on_originals) return P;
-    if (!is_direct(law)) return scale_pair(P, law, k);
+    if (!is_direct(law)) return scale_pair(P, law, k, gamma_power);
     models::PairParameters q = P;
     const double hp = std::pow(k, ex.hertz_modulus_power()), sp = std::pow(k, ex.spring_power());
     q.E_eff *= hp;
@@ -105,7 +106,7 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
         tr = rayleigh_time(rmin[a], rho[a], ma.youngs_modulus * std::pow(ka, ex.hertz_modulus_power()),
                            ma.poisson_ratio);
       else {
-        const MaterialSpec sm = scale_material(ma, law, ka);
+        const MaterialSpec sm = scale_material(ma, law, ka, gamma_power);
         tr = rayleigh_time(rmin[a], rho[a], sm.youngs_modulus, sm.poisson_ratio);
       }
       if (tr < e.rayleigh_time) {

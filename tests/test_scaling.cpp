@@ -84,6 +84,39 @@ TEST(ScalingLaws, ParameterMultipliersMatchPhysicsTable) {
   EXPECT_EQ(scale_material(m, ScalingLaw::HuMethod1, k).surface_energy, m.surface_energy);
 }
 
+TEST(ScalingLaws, SurfaceEnergyPowerReplacesTheLawsExponentOfGammaOnly) {
+  MaterialSpec m = sticky("a", 1e7, 0.1);
+  m.law_parameters["eepa.f0"] = -1e-3;
+  const double k = 3;
+  for (ScalingLaw law : {ScalingLaw::ChenElliott, ScalingLaw::Bond, ScalingLaw::Cohesion}) {
+    const MaterialSpec own = scale_material(m, law, k), p1 = scale_material(m, law, k, 1),
+                       p0 = scale_material(m, law, k, 0);
+    EXPECT_NEAR(p1.surface_energy, 0.1 * 3, 1e-15) << scaling_law_name(law);
+    EXPECT_EQ(p0.surface_energy, 0.1) << scaling_law_name(law);
+    EXPECT_EQ(p1.youngs_modulus, own.youngs_modulus) << scaling_law_name(law); // E keeps the law's k^2.5 or 1
+    EXPECT_EQ(scale_material(m, law, k, -1).surface_energy, own.surface_energy) << scaling_law_name(law);
+  }
+  // Laws that do not scale gamma are not changed by it.
+  for (ScalingLaw law : {ScalingLaw::None, ScalingLaw::Thakur, ScalingLaw::HuMethod1}) {
+    const MaterialSpec s = scale_material(m, law, k, 1);
+    EXPECT_EQ(s.surface_energy, 0.1) << scaling_law_name(law);
+    EXPECT_EQ(s.law_parameter("eepa.f0", 0), scale_material(m, law, k).law_parameter("eepa.f0", 0));
+  }
+  // The scene's value reaches the pair tables, walls included.
+  Scene s = two_group_scene("chen_elliott", 2, 2);
+  const ScaledTables own = scaled_tables(s);
+  for (GroupSpec& g : s.groups)
+    g.coarse_grain.surface_energy_power = 1;
+  const ScaledTables p1 = scaled_tables(s);
+  const int a = p1.slot_of_group[0];
+  const std::size_t ns = p1.slots.size();
+  EXPECT_NEAR(p1.pair_params[a * ns + a].surface_energy / own.pair_params[a * ns + a].surface_energy, 0.5,
+              1e-14);
+  EXPECT_NEAR(p1.wall_params[a * ns + 1].surface_energy / own.wall_params[a * ns + 1].surface_energy, 0.5,
+              1e-14);
+  EXPECT_EQ(p1.pair_params[a * ns + a].E_eff, own.pair_params[a * ns + a].E_eff);
+}
+
 TEST(ScalingLaws, EqualFactorsPairEqualsMixingScaledMaterials) {
   const Scene s = two_group_scene("chen_elliott", 2, 2);
   const ScaledTables t = scaled_tables(s);

@@ -21,14 +21,15 @@ struct ImpactSpec {
   double r1 = 0.5e-3, r2 = 1e-3; // ORIGINAL radii (r2 unused for a wall)
   double density = 2500, E = 1e6, nu = 0.3, gamma = 0.5, e = 1.0, mu = 0.0;
   double wall_E = 1e6, wall_nu = 0.3;
-  double speed = 0.4;             // relative normal approach speed
-  double tangential_speed = 0;    // along y (oblique impact)
-  double dt = 0;                  // 0: Hertz contact time at `speed` of the ORIGINAL pair / 400
-  std::string contact = "jkr";    // normal law
-  double max_contact_times = 30;  // give up (stuck) after this many Hertz contact times in contact
-  bool record = false;            // keep the time series
-  std::string lever_arm = "auto"; // contact.lever_arm
-  int torque_power = 0;           // coarse_grain.torque_power (hu_method1; 0: the method's)
+  double speed = 0.4;               // relative normal approach speed
+  double tangential_speed = 0;      // along y (oblique impact)
+  double dt = 0;                    // 0: Hertz contact time at `speed` of the ORIGINAL pair / 400
+  std::string contact = "jkr";      // normal law
+  double max_contact_times = 30;    // give up (stuck) after this many Hertz contact times in contact
+  bool record = false;              // keep the time series
+  std::string lever_arm = "auto";   // contact.lever_arm
+  int torque_power = 0;             // coarse_grain.torque_power (hu_method1; 0: the method's)
+  double surface_energy_power = -1; // coarse_grain.surface_energy_power (< 0: the law's own)
 };
 
 struct ImpactSample {
@@ -85,6 +86,7 @@ inline ImpactOutcome run_impact(const ImpactSpec& c) {
   s.groups[0].coarse_grain.factor = c.k;
   s.contact.lever_arm = c.lever_arm;
   s.groups[0].coarse_grain.torque_power = c.torque_power;
+  s.groups[0].coarse_grain.surface_energy_power = c.surface_energy_power;
   const double k = c.law == "none" ? 1.0 : c.k;
   const double R1 = k * c.r1, R2 = k * c.r2;
   const double m1 = sphere_mass(c.density, R1), m2 = c.wall ? 0 : sphere_mass(c.density, R2);
@@ -126,9 +128,12 @@ inline ImpactOutcome run_impact(const ImpactSpec& c) {
   }
   auto engine = make(s, p, dt, "serial");
   ImpactOutcome out;
-  const double gamma_k = c.law == "chen_elliott" || c.law == "bond" ? c.gamma * k * k
-                         : c.law == "cohesion"                      ? c.gamma * std::pow(k, 1.6)
-                                                                    : c.gamma;
+  const bool scales_gamma = c.law == "chen_elliott" || c.law == "bond" || c.law == "cohesion";
+  const double gamma_k = scales_gamma && c.surface_energy_power >= 0
+                             ? c.gamma * std::pow(k, c.surface_energy_power)
+                         : c.law == "chen_elliott" || c.law == "bond" ? c.gamma * k * k
+                         : c.law == "cohesion"                        ? c.gamma * std::pow(k, 1.6)
+                                                                      : c.gamma;
   out.F_c = 3 * M_PI * gamma_k * R_eff;
   if (is_direct(scaling_law(c.law))) // the original pair's F_c times the method's adhesion power of l
     out.F_c =

@@ -225,6 +225,32 @@ TEST(ChenElliottScaling, StickingVelocityInvariant) {
   std::printf("[ report ] Chen case c critical sticking velocity (k = 1): %.4f m/s\n", ref);
 }
 
+TEST(ChenElliottScaling, SurfaceEnergyPowerOneKeepsThePullOffForcePerCrossSection) {
+  // A packing's cohesive strength is ~ (contacts per area) x (pull-off force) ~ F_c / d^2 (Rumpf). Chen's
+  // law keeps each contact's Bond number, F_c ~ k^3, so a coarse packing is k times stronger; with
+  // surface_energy_power 1 (gamma ~ k) F_c ~ k^2 and the strength is the original's. Measured: the largest
+  // attraction of the simulated pair (Chen case a, the neck pulled through the pull-off point) against the
+  // original's, per cross-section (R^2 ~ k^2).
+  const ImpactOutcome ref = run_impact(chen_case_a("chen_elliott", 1));
+  ASSERT_FALSE(ref.stuck);
+  const double ref_pull = ref.max_attraction * ref.F_c;
+  ASSERT_GT(ref.max_attraction, 0.9);
+  for (double k : {2.0, 4.0}) {
+    ImpactSpec c = chen_case_a("chen_elliott", k);
+    c.surface_energy_power = 1;
+    const ImpactOutcome o = run_impact(c);
+    ASSERT_FALSE(o.stuck) << "k=" << k;
+    EXPECT_NEAR(o.max_attraction * o.F_c / (k * k * ref_pull), 1, 0.01) << "k=" << k;
+    const ImpactOutcome own = run_impact(chen_case_a("chen_elliott", k)); // gamma ~ k^2: F_c ~ k^3
+    EXPECT_NEAR(own.max_attraction * own.F_c / (k * k * ref_pull), k, 0.01 * k) << "k=" << k;
+    std::printf(
+        "[ report ] k = %g: pull-off / (k^2 original) %.4f with gamma ~ k, %.4f with Chen's gamma ~ k^2; "
+        "e %.4f (original %.4f)\n",
+        k, o.max_attraction * o.F_c / (k * k * ref_pull), own.max_attraction * own.F_c / (k * k * ref_pull),
+        o.restitution, ref.restitution);
+  }
+}
+
 TEST(BondAndCohesionScaling, DeviateFromOriginalWithLongerContactAndLargerOverlap) {
   // Both keep E unscaled: the coarse contact is softer relative to its mass, so it lasts longer and goes
   // deeper (Chen & Elliott figs. 3-5); the deviation grows with k.

@@ -467,6 +467,32 @@ TEST(SceneParser, TorquePowerDampingAndLeverArm) {
                "must be > 1", "sticking velocities");
 }
 
+TEST(SceneParser, SurfaceEnergyPowerOnlyOnLawsThatScaleGamma) {
+  const auto with = [](const std::string& first, const std::string& second) {
+    return replaced(replaced(kBase, "    velocity: [0, 0, -0.1]",
+                             "    velocity: [0, 0, -0.1]\n    coarse_grain: " + first),
+                    "    placement: {type: lattice",
+                    "    coarse_grain: " + second + "\n    placement: {type: lattice");
+  };
+  const std::string p1 = "{law: chen_elliott, factor: 2, surface_energy_power: 1}";
+  const Scene s = parse_scene_text(with(p1, p1), "scene.yaml");
+  EXPECT_EQ(s.groups[0].coarse_grain.surface_energy_power, 1);
+  EXPECT_EQ(s.groups[1].coarse_grain.surface_energy_power, 1);
+  const std::string own = "{law: chen_elliott, factor: 2}";
+  EXPECT_LT(parse_scene_text(with(own, own), "scene.yaml").groups[0].coarse_grain.surface_energy_power, 0);
+  const std::string hu = "{law: hu_method1, factor: 2, surface_energy_power: 1}";
+  const std::string t1 = with(hu, hu);
+  expect_error(t1, line_of(t1, "law: hu_method1"), "groups.0.coarse_grain.surface_energy_power",
+               "applies to the laws that scale the surface energy", "remove surface_energy_power");
+  const std::string big = "{law: bond, factor: 2, surface_energy_power: 4}";
+  const std::string t2 = with(big, big);
+  expect_error(t2, line_of(t2, "law: bond"), "groups.0.coarse_grain.surface_energy_power", "is outside 0-3",
+               "e.g. 1 to keep the pull-off force per cross-section");
+  const std::string t3 = with(p1, own);
+  expect_error(t3, line_of(t3, "- name: fines"), "groups.1.coarse_grain.surface_energy_power",
+               "differs from group 0's", "one surface_energy_power for the whole scene");
+}
+
 TEST(SceneParser, BoundedPlatesConesInletsAndOutlets) {
   const std::string gate =
       "  - name: gate\n    type: plane\n    material: steel\n    point: [0.01, 0.01, 0.01]\n"

@@ -119,6 +119,14 @@ TEST(SweepOptions, ParseAndReject) {
                CliError);
   EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--checkpoint-every", "0"}),
                CliError);
+  // --coarse-set: one key of the coarse_grain map with its value.
+  EXPECT_EQ(
+      parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--coarse-set", "surface_energy_power=1"})
+          .coarse_sets,
+      (std::vector<std::string>{"surface_energy_power=1"}));
+  for (const char* bad : {"surface_energy_power", "=1", "x=", "groups.0.coarse_grain.x=1"})
+    EXPECT_THROW(parse_sweep_options({"s.yaml", "--laws", "a", "--k", "2", "--coarse-set", bad}), CliError)
+        << bad;
 }
 
 // Mean and sample standard deviation over seeds, the error of the case's mean against the reference's,
@@ -349,6 +357,22 @@ TEST_F(SweepTest, CsvPlotsAndFiguresFromRecords) {
   }
   // The floor carries the weight: the same powder mass at every k (within the settling left after 0.05 s).
   EXPECT_GT(ref.values.at("floor_stress"), 0);
+}
+
+// --coarse-set reaches the coarse-grained runs and not the reference: a value the parser refuses stops the
+// sweep at the coarse run's check, and a valid one runs (under law none the reference would refuse it).
+TEST_F(SweepTest, CoarseSetReachesTheCoarseRunsOnly) {
+  ASSERT_EQ(cgdem(args("--no-plots --quiet --coarse-set surface_energy_power=9")), 2)
+      << slurp(dir / "out.txt");
+  const std::string refused = slurp(dir / "out.txt");
+  EXPECT_NE(refused.find("surface_energy_power 9 is outside 0-3"), std::string::npos) << refused;
+  EXPECT_FALSE(fs::exists(dir / "s" / "records" / "reference.txt"));
+  ASSERT_EQ(cgdem("sweep '" + kScene + "' --laws chen_elliott --k 2 --set time.end=0.01 --out '" +
+                  (dir / "s").string() +
+                  "' --threads 2 --no-plots --quiet --coarse-set surface_energy_power=1"),
+            0)
+      << slurp(dir / "out.txt");
+  EXPECT_EQ(read_csv(dir / "s" / "sweep.csv").rows.size(), 2u);
 }
 
 TEST_F(SweepTest, PreCreatedRecordIsSkippedAndUsed) {
