@@ -89,8 +89,9 @@ ParameterScaling parameter_scaling(ScalingLaw law, double k, double surface_ener
   default:
     break;
   }
-  if (surface_energy_power >= 0 && s.surface_energy != 1)
-    s.surface_energy = std::pow(k, surface_energy_power);
+  const bool scales_gamma =
+      law == ScalingLaw::ChenElliott || law == ScalingLaw::Bond || law == ScalingLaw::Cohesion;
+  if (scales_gamma && surface_energy_power >= 0) s.surface_energy = std::pow(k, surface_energy_power);
   return s;
 }
 
