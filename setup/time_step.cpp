@@ -169,7 +169,11 @@ TimeStepEstimate estimate_time_step(const Scene& scene, const ParticleSet& ps) {
         r << (seen.size() > 1 ? ", " : " ") << seen.back();
       }
     r << "): ";
-    if (law == ScalingLaw::ChenElliott)
+    if (law == ScalingLaw::ChenElliott && gamma_power >= 0)
+      r << "the original particles' step (the Hertz contact time is invariant under the law; surface energy "
+           "~ k^"
+        << gamma_power << " changes the adhesive part)";
+    else if (law == ScalingLaw::ChenElliott)
       r << "the original particles' step (contact time invariant under the law)";
     else if (law == ScalingLaw::HuMethod1)
       r << "l x the original particles' step (Hu eqs 38-41)";
