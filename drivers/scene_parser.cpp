@@ -751,7 +751,7 @@ struct Parser {
       }
       if (c.has("surface_energy_power")) {
         const std::string& law = g.coarse_grain.law;
-        if (law != "chen_elliott" && law != "bond" && law != "cohesion")
+        if (!scales_surface_energy(scaling_law(law)))
           ctx.fail(c.sub("surface_energy_power"), c.get("surface_energy_power").mark,
                    "surface_energy_power applies to the laws that scale the surface energy (chen_elliott, "
                    "bond, cohesion), not to " +
@@ -789,17 +789,16 @@ struct Parser {
                  "coarse_grain law '" + scene.groups[i].coarse_grain.law + "' differs from group 0's '" +
                      law + "'",
                  "use one scaling law for the whole scene");
-    for (std::size_t i = 1; i < scene.groups.size(); ++i)
-      if (scene.groups[i].coarse_grain.torque_power != scene.groups[0].coarse_grain.torque_power)
-        ctx.fail("groups." + std::to_string(i) + ".coarse_grain.torque_power", item(f, i).mark,
-                 "coarse_grain torque_power differs from group 0's",
-                 "use one torque_power for the whole scene");
-    for (std::size_t i = 1; i < scene.groups.size(); ++i)
-      if (scene.groups[i].coarse_grain.surface_energy_power !=
-          scene.groups[0].coarse_grain.surface_energy_power)
-        ctx.fail("groups." + std::to_string(i) + ".coarse_grain.surface_energy_power", item(f, i).mark,
-                 "coarse_grain surface_energy_power differs from group 0's",
-                 "use one surface_energy_power for the whole scene");
+    // The law's options are the scene's, like the law: every group gives group 0's.
+    const auto same_option = [&](const std::string& key, auto of) {
+      for (std::size_t i = 1; i < scene.groups.size(); ++i)
+        if (of(scene.groups[i].coarse_grain) != of(scene.groups[0].coarse_grain))
+          ctx.fail("groups." + std::to_string(i) + ".coarse_grain." + key, item(f, i).mark,
+                   "coarse_grain " + key + " differs from group 0's",
+                   "use one " + key + " for the whole scene");
+    };
+    same_option("torque_power", [](const CoarseGrainSpec& c) { return double(c.torque_power); });
+    same_option("surface_energy_power", [](const CoarseGrainSpec& c) { return c.surface_energy_power; });
   }
 
   // until_force (N): the segment ends once the particles' force on the wall against its velocity reaches

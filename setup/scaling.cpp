@@ -49,6 +49,10 @@ bool is_parameter(ScalingLaw law) {
          law == ScalingLaw::Thakur || law == ScalingLaw::ThakurF0Linear || law == ScalingLaw::ThakurF0Cubic;
 }
 
+bool scales_surface_energy(ScalingLaw law) {
+  return law == ScalingLaw::ChenElliott || law == ScalingLaw::Bond || law == ScalingLaw::Cohesion;
+}
+
 ScalingLaw scene_scaling_law(const Scene& scene) {
   return scene.groups.empty() ? ScalingLaw::None : scaling_law(scene.groups.front().coarse_grain.law);
 }
@@ -89,9 +93,8 @@ ParameterScaling parameter_scaling(ScalingLaw law, double k, double surface_ener
   default:
     break;
   }
-  const bool scales_gamma =
-      law == ScalingLaw::ChenElliott || law == ScalingLaw::Bond || law == ScalingLaw::Cohesion;
-  if (scales_gamma && surface_energy_power >= 0) s.surface_energy = std::pow(k, surface_energy_power);
+  if (scales_surface_energy(law) && surface_energy_power >= 0)
+    s.surface_energy = std::pow(k, surface_energy_power);
   return s;
 }
 

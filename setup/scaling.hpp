@@ -45,6 +45,9 @@ ScalingLaw scaling_law(const std::string& name);
 const char* scaling_law_name(ScalingLaw law);
 bool is_direct(ScalingLaw law);    // hu_method1/2/3, sakai
 bool is_parameter(ScalingLaw law); // chen_elliott, bond, cohesion, thakur
+// The laws that scale the surface energy (chen_elliott, bond, cohesion): coarse_grain.surface_energy_power
+// applies to them only.
+bool scales_surface_energy(ScalingLaw law);
 
 // The scene's law (group 0's; "none" without groups).
 ScalingLaw scene_scaling_law(const Scene& scene);
