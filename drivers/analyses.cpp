@@ -493,14 +493,21 @@ public:
     out[name()] = fit.angle_deg;
     out[name() + "_rms"] = fit.rms;
     out[name() + "_cells"] = double(fit.cells_used);
+    out[name() + "_carried"] = fit.carried;
     if (average_from_ < 0) return;
     // A cohesive bed slumps: the angle of one frame depends on where in the avalanche cycle the run
     // stops, so the comparable figure is the mean over the output frames of the flowing regime. Each
     // frame time counts once (the final evaluation may repeat the last output frame).
+    // A frame without a free surface (nan) adds nothing to the angle's mean: a run whose every frame
+    // lacks one has a nan mean, which a sweep reports as failed rather than as a flat bed.
     if (in.accumulate && in.time >= average_from_ && in.time > last_time_) {
-      sum_ += fit.angle_deg;
-      sum_squares_ += fit.angle_deg * fit.angle_deg;
-      ++frames_;
+      if (std::isfinite(fit.angle_deg)) {
+        sum_ += fit.angle_deg;
+        sum_squares_ += fit.angle_deg * fit.angle_deg;
+        ++frames_;
+      }
+      sum_carried_ += fit.carried;
+      ++carried_frames_;
       last_time_ = in.time;
     }
     // Not yet defined before the first frame at or after average_from: nan, not 0, so that no plot or
@@ -512,29 +519,35 @@ public:
     out[name() + "_std"] =
         frames_ > 1 ? std::sqrt(std::max(0.0, (sum_squares_ - frames_ * mean * mean) / (frames_ - 1))) : nan;
     out[name() + "_frames"] = double(frames_);
+    out[name() + "_carried_mean"] = carried_frames_ > 0 ? sum_carried_ / carried_frames_ : nan;
   }
 
 protected:
   // The dynamic angle of a drum of fixed size and speed depends on the fill level only weakly: p = 0.
   std::map<std::string, double> default_mass_exponents() const override {
-    return {{"", 0}, {"_rms", 0}, {"_cells", 0}, {"_mean", 0}, {"_std", 0}, {"_frames", 0}};
+    return {{"", 0},     {"_rms", 0},    {"_cells", 0},   {"_mean", 0},
+            {"_std", 0}, {"_frames", 0}, {"_carried", 0}, {"_carried_mean", 0}};
   }
 
 public:
-  std::vector<double> state() const override { return {sum_, sum_squares_, last_time_, double(frames_)}; }
+  std::vector<double> state() const override {
+    return {sum_, sum_squares_, last_time_, double(frames_), sum_carried_, double(carried_frames_)};
+  }
   void restore_state(const std::vector<double>& s) override {
-    expect_state(s, 4);
+    expect_state(s, 6);
     sum_ = s[0];
     sum_squares_ = s[1];
     last_time_ = s[2];
     frames_ = std::lround(s[3]);
+    sum_carried_ = s[4];
+    carried_frames_ = std::lround(s[5]);
   }
 
 private:
   A3 center_{}, axis_{0, 1, 0}, up_{0, 0, 1};
   double radius_ = 0, cell_ = 0, fraction_ = 0.6, average_from_ = -1;
-  double sum_ = 0, sum_squares_ = 0, last_time_ = -1;
-  long frames_ = 0;
+  double sum_ = 0, sum_squares_ = 0, last_time_ = -1, sum_carried_ = 0;
+  long frames_ = 0, carried_frames_ = 0; // frames with a free surface; all frames of the window
 };
 
 // A flow or heap spreading along one axis: runout, front, height and free-surface angle (planar_flow).
@@ -889,12 +902,16 @@ DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, cons
   };
   std::map<long, std::map<long, Cell>> columns; // u cell -> v cell -> cell
   double wmin = std::numeric_limits<double>::max(), wmax = -wmin;
+  double mass = 0, mass_above = 0;
   for (std::size_t i = 0; i < f.size(); ++i) {
     const A3 d{f.position[3 * i] - center[0], f.position[3 * i + 1] - center[1],
                f.position[3 * i + 2] - center[2]};
     const double u = dot(d, eu), v = dot(d, up), w = dot(d, axis), r = f.radius[i];
     wmin = std::min(wmin, w - r);
     wmax = std::max(wmax, w + r);
+    const double m = f.mass.size() == f.size() ? f.mass[i] : r * r * r;
+    mass += m;
+    if (v > 0) mass_above += m;
     Cell& c =
         columns[static_cast<long>(std::floor(u / cell_width))][static_cast<long>(std::floor(v / cell_width))];
     c.volume += 4.0 / 3.0 * kPi * r * r * r;
@@ -907,6 +924,7 @@ DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, cons
   constexpr double kBedFraction = 0.2, kWallLayer = 1.5;
   const double cell_volume = cell_width * cell_width * (wmax - wmin);
   const double inner = drum_radius - kWallLayer * cell_width;
+  fit.carried = mass > 0 ? mass_above / mass : 0;
   std::vector<std::array<double, 2>> surface;
   for (const auto& column : columns) {
     long top_cell = 0;

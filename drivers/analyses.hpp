@@ -15,7 +15,7 @@
 //   velocity_distribution mean speed (m/s); extras: std, median, p90, max; optional CSV of the PDF
 //   drum_angle            dynamic angle of repose in a rotating drum (degrees): total least-squares line
 //                         through the bed's free surface seen along the axis (not the powder coating the
-//                         wall above it)
+//                         wall above it); extras: the mass fraction carried above the axis
 //   planar_flow           runout of a flow or heap spreading along one axis (column collapse, slump, planar
 //                         heap; m); extras: front position, height, free-surface angle, r2, bins
 // The building blocks (fits, distances, profiles) are exposed for the unit tests and the sweep.
@@ -136,8 +136,11 @@ PileFit pile_angle(const FrameData& f, const std::vector<char>& use, double cx, 
                    SectorStatistic statistic = SectorStatistic::mean);
 
 struct DrumFit {
-  double angle_deg = 0, rms = 0;
+  // nan until defined: fewer than 2 surface points in the fitted range (no bed, or a bed turning as a lump
+  // with no free surface below the wall layer)
+  double angle_deg = std::numeric_limits<double>::quiet_NaN(), rms = std::numeric_limits<double>::quiet_NaN();
   std::size_t cells_used = 0;
+  double carried = 0; // mass fraction whose centres lie above the drum's axis
 };
 // Bed in a drum of radius drum_radius: axis through `center` along `axis`, `up` = the upward direction
 // (perpendicular to the axis). The cross-section seen along the axis (u = up x axis, v = up) in square
@@ -147,7 +150,8 @@ struct DrumFit {
 // coats the drum and is carried over the top) or in flight is not read as the surface; points within 1.5
 // cells of the drum wall are that coating beside the bed and are dropped. The points whose u lies in the
 // central `fit_fraction` of their u range are fitted with a total least squares line; the angle is its
-// tilt, rms its residual, cells_used the points fitted.
+// tilt, rms its residual, cells_used the points fitted. `carried` is the share of the mass above the axis:
+// powder stuck to the wall and carried over the top (a bed filled up to 0.5 lies below the axis).
 DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, const std::array<double, 3>& axis,
                    const std::array<double, 3>& up, double drum_radius, double cell_width,
                    double fit_fraction);

@@ -212,23 +212,49 @@ TEST(Analyses, DrumBedOfKnownTilt) {
   EXPECT_GT(fit.cells_used, 10u);
 }
 
+// A cohesive powder's coating of the drum above (radius 20 mm, along y): three layers of particles stuck
+// to the whole wall, carried over the top (rings of 400 positions, a quarter step and half a step per
+// layer off the axis, 16 rings along it), with a lump of 40 hanging from the ceiling.
+static void add_coating(FrameData& f) {
+  const double r = 0.0003, R = 0.02;
+  for (int layer = 0; layer < 3; ++layer)
+    for (int a = 0; a < 400; ++a)
+      for (int k = 0; k < 16; ++k) {
+        const double phi = 2 * kPi * (a + 0.25 + 0.5 * layer) / 400, rho = R - r - 2 * r * layer;
+        add(f, rho * std::cos(phi), -0.005 + 0.000625 * (k + 0.5), rho * std::sin(phi), r);
+      }
+  for (int k = 0; k < 40; ++k)
+    add(f, 0.0005 * (k % 8), -0.004 + 0.0008 * (k / 8), R - 7 * r - 2 * r * (k % 3), r);
+}
+
 TEST(Analyses, DrumAngleIsTheBedsSurfaceNotThePowderCoatingTheWall) {
   // The tilted bed, and a cohesive powder's coating: three layers of particles stuck to the whole drum
   // wall, carried over the top of the drum, with a lump hanging from its ceiling. Read as the surface,
   // the coating's top would make a flat or wall-shaped "surface"; the bed's 28 degrees must come out.
   FrameData f = drum_bed(28);
-  const double r = 0.0003, R = 0.02;
-  for (int layer = 0; layer < 3; ++layer)
-    for (int a = 0; a < 400; ++a)
-      for (int k = 0; k < 16; ++k) {
-        const double phi = 2 * kPi * (a + 0.5 * layer) / 400, rho = R - r - 2 * r * layer;
-        add(f, rho * std::cos(phi), -0.005 + 0.000625 * (k + 0.5), rho * std::sin(phi), r);
-      }
-  for (int k = 0; k < 40; ++k)
-    add(f, 0.0005 * (k % 8), -0.004 + 0.0008 * (k / 8), R - 7 * r - 2 * r * (k % 3), r);
-  const DrumFit fit = drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, R, 0.0012, 0.6);
+  add_coating(f);
+  const DrumFit fit = drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.02, 0.0012, 0.6);
   EXPECT_NEAR(fit.angle_deg, 28, 1.0);
   EXPECT_GT(fit.cells_used, 10u);
+}
+
+TEST(Analyses, DrumCarriedMassIsTheShareAboveTheAxis) {
+  // A flat bed below the axis carries nothing over the top.
+  FrameData f = drum_bed(0);
+  const std::size_t bed = f.size();
+  EXPECT_EQ(drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.02, 0.0012, 0.6).carried, 0);
+  // The coating: 200 of each ring's 400 positions lie above the axis (16 rings of 3 layers), and the
+  // lump hanging from the ceiling: 40.
+  const double R = 0.02;
+  add_coating(f);
+  const double above = 3 * 200 * 16 + 40;
+  EXPECT_NEAR(drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, R, 0.0012, 0.6).carried, above / f.size(),
+              1e-12);
+  // By mass, not by count: the bed's particles three times as heavy.
+  for (std::size_t i = 0; i < bed; ++i)
+    f.mass[i] = 3;
+  EXPECT_NEAR(drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, R, 0.0012, 0.6).carried,
+              above / (above + 3.0 * bed + (double(f.size() - bed) - above)), 1e-12);
 }
 
 TEST(Analyses, DrumMeanAngleAveragesTheFramesFromTheGivenTimeOnce) {
@@ -251,12 +277,21 @@ analyses: [{type: drum_angle, name: a, drum: drum, cell_width: 0.0012, average_f
   };
   at(f40, 0.5); // before average_from: not counted, and the mean not yet defined
   EXPECT_TRUE(std::isnan(out.at("a_mean")));
-  const double a20 = at(f20, 1.0);
-  const double a30 = at(f30, 1.5);
+  EXPECT_TRUE(std::isnan(out.at("a_carried_mean")));
+  const double a20 = at(f20, 1.0), c20 = out.at("a_carried");
+  FrameData flight; // three particles in flight, two above the axis: no bed, so no angle
+  for (double z : {0.004, 0.008, -0.006})
+    add(flight, 0.001, 0, z, 0.0003);
+  EXPECT_TRUE(std::isnan(at(flight, 1.25)));
+  const double c_flight = out.at("a_carried");
+  EXPECT_DOUBLE_EQ(c_flight, 2.0 / 3);
+  const double a30 = at(f30, 1.5), c30 = out.at("a_carried");
   at(f30, 1.5); // the final evaluation of the last output frame: counted once
   EXPECT_NEAR(a20, 20, 1.0);
   EXPECT_NEAR(a30, 30, 1.0);
   EXPECT_DOUBLE_EQ(out.at("a_mean"), 0.5 * (a20 + a30));
+  EXPECT_GT(c30, c20); // the steeper bed reaches further above the axis
+  EXPECT_DOUBLE_EQ(out.at("a_carried_mean"), (c20 + c_flight + c30) / 3);
   EXPECT_NEAR(out.at("a_std"), std::fabs(a30 - a20) / std::sqrt(2.0), 1e-9); // two frames
   EXPECT_EQ(out.at("a_frames"), 2);
   // A sweep compares and plots the mean, not the angle of whichever frame the run ends on.
