@@ -250,11 +250,12 @@ TEST(Analyses, DrumCarriedMassIsTheShareAboveTheAxis) {
   const double above = 3 * 200 * 16 + 40;
   EXPECT_NEAR(drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, R, 0.0012, 0.6).carried, above / f.size(),
               1e-12);
-  // By mass, not by count: the bed's particles three times as heavy.
+  // By mass, not by count: the bed's particles (all below the axis) three times as heavy.
+  const double coating = double(f.size() - bed);
   for (std::size_t i = 0; i < bed; ++i)
     f.mass[i] = 3;
   EXPECT_NEAR(drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, R, 0.0012, 0.6).carried,
-              above / (above + 3.0 * bed + (double(f.size() - bed) - above)), 1e-12);
+              above / (3.0 * bed + coating), 1e-12);
 }
 
 TEST(Analyses, DrumMeanAngleAveragesTheFramesFromTheGivenTimeOnce) {
