@@ -32,20 +32,9 @@ try:
     import matplotlib.pyplot as plt
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"hu_compression_table.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-matplotlib)")
-from run_pieces import run_pieces
+from run_pieces import read_record, run_pieces
 
 NAMES = {"none": "original", "hu_method1": "Method 1", "hu_method2": "Method 2", "hu_method3": "Method 3"}
-
-
-def read_record(path):
-    """The "key value" lines of a sweep record (drivers/sweep_command.cpp, write_record)."""
-    rec = {}
-    with open(path) as f:
-        for line in f:
-            parts = line.rstrip("\n").split(" ", 1)
-            if len(parts) == 2:
-                rec[parts[0]] = parts[1]
-    return rec
 
 
 def stress_at(strain, stress, e):

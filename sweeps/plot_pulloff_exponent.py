@@ -20,6 +20,7 @@ try:
     import matplotlib.pyplot as plt
 except ImportError as e:
     sys.exit(f"plot_pulloff_exponent.py: {e}; run it with /usr/bin/python3 (Debian's python3-matplotlib)")
+from run_pieces import record_value
 
 # (results directory, run name prefix) -> (label, exponent of F_c in k)
 PILE = [("chen_repose_paper", "chen_elliott", "Chen's law", 3.0), ("chen_repose_paper", "bond", "Bond", 3.0),
@@ -31,14 +32,6 @@ DRUM = [("chen_drum_paper_10rpm/angles.csv", "chen_elliott_k2", "Chen's law", 3.
         ("chen_drum_paper_10rpm/variants.csv", "chen_elliott_gamma_k_k2", "Chen's law, gamma ~ k", 2.0)]
 COLOURS = {"Chen's law": "tab:blue", "Bond": "tab:orange", "Cohesion number": "tab:green",
            "Chen's law, gamma ~ k": "tab:purple"}
-
-
-def record_value(path, name):
-    for line in open(path):
-        parts = line.split()
-        if len(parts) == 3 and parts[0] == "value" and parts[1] == name:
-            return float(parts[2])
-    raise KeyError(f"{path}: no value {name}")
 
 
 def pile_heights(results, directory, prefix):
