@@ -1,6 +1,7 @@
 #include "core/checkpoint.hpp"
 #include "core/crash_probe.hpp"
 #include "core/hdf5_guard.hpp"
+#include "core/hdf5_support.hpp"
 
 #include <hdf5.h>
 
@@ -24,78 +25,19 @@ namespace {
 constexpr const char* kFormat = "cgdem-checkpoint";
 constexpr std::int32_t kFormatVersion = 1;
 
-[[noreturn]] void fail(const std::string& what) {
-  std::string detail;
-  H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_UPWARD,
-      [](unsigned n, const H5E_error2_t* e, void* d) -> herr_t {
-        if (n == 0 && e && e->desc) *static_cast<std::string*>(d) = e->desc;
-        return 0;
-      },
-      &detail);
-  H5Eclear2(H5E_DEFAULT);
-  throw std::runtime_error(detail.empty() ? what : what + " (" + detail + ")");
-}
-hid_t check_id(hid_t id, const std::string& what) {
-  if (id < 0) fail(what);
-  return id;
-}
-void check(herr_t r, const std::string& what) {
-  if (r < 0) fail(what);
-}
-
-class Hid {
-public:
-  Hid(hid_t id, herr_t (*closer)(hid_t), const std::string& what)
-      : id_(check_id(id, what)), closer_(closer) {}
-  Hid(Hid&& o) noexcept : id_(o.id_), closer_(o.closer_) { o.id_ = -1; }
-  Hid(const Hid&) = delete;
-  Hid& operator=(const Hid&) = delete;
-  ~Hid() {
-    if (id_ >= 0) closer_(id_);
-  }
-  operator hid_t() const { return id_; }
-  void close(const std::string& what) {
-    hid_t id = id_;
-    id_ = -1;
-    check(closer_(id), what);
-  }
-
-private:
-  hid_t id_;
-  herr_t (*closer_)(hid_t);
-};
-
-Hid string_type() {
-  Hid t(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
-  check(H5Tset_size(t, H5T_VARIABLE), "set string size");
-  check(H5Tset_cset(t, H5T_CSET_UTF8), "set string charset");
-  return t;
-}
+using h5::check;
+using h5::check_id;
+using h5::fail;
+using h5::Hid;
+using h5::read_attr;
+using h5::read_string_attr;
+using h5::vlen_string_type;
 
 void write_attr(hid_t obj, const char* name, hid_t file_type, hid_t mem_type, const void* v) {
   Hid space(H5Screate(H5S_SCALAR), H5Sclose, "create dataspace");
   Hid a(H5Acreate2(obj, name, file_type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
         std::string("create attribute ") + name);
   check(H5Awrite(a, mem_type, v), std::string("write attribute ") + name);
-}
-
-void read_attr(hid_t obj, const char* name, hid_t mem_type, void* v) {
-  Hid a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose, std::string("open attribute ") + name);
-  check(H5Aread(a, mem_type, v), std::string("read attribute ") + name);
-}
-
-std::string read_string_attr(hid_t obj, const char* name) {
-  Hid a(H5Aopen(obj, name, H5P_DEFAULT), H5Aclose, std::string("open attribute ") + name);
-  Hid ft(H5Aget_type(a), H5Tclose, "get attribute type");
-  if (H5Tget_class(ft) != H5T_STRING || H5Tis_variable_str(ft) <= 0)
-    throw std::runtime_error(std::string("attribute ") + name + " is not a variable-length string");
-  Hid t = string_type();
-  char* p = nullptr;
-  check(H5Aread(a, t, &p), std::string("read attribute ") + name);
-  std::string s = p ? p : "";
-  H5free_memory(p);
-  return s;
 }
 
 void check_name(const std::string& kind, const std::string& name) {
@@ -171,7 +113,7 @@ void write_file(const std::string& p, const CheckpointData& d) {
   check(H5Pset_fclose_degree(fapl, H5F_CLOSE_SEMI), "set close degree");
   Hid file(H5Fcreate(p.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl), H5Fclose, "create " + p);
   {
-    Hid st = string_type();
+    Hid st = vlen_string_type();
     const char* fmt = kFormat;
     write_attr(file, "format", st, st, &fmt);
     write_attr(file, "format_version", H5T_STD_I32LE, H5T_NATIVE_INT32, &kFormatVersion);

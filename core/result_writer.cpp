@@ -1,5 +1,6 @@
 #include "core/result_writer.hpp"
 #include "core/hdf5_guard.hpp"
+#include "core/hdf5_support.hpp"
 #include "core/triangle_mesh.hpp"
 
 #include <hdf5.h>
@@ -30,71 +31,12 @@ std::mutex& hdf5_mutex() {
 
 namespace {
 
-// ---------------------------------------------------------------------------------------------------
-// Small HDF5 helpers (C API). Every function throws std::runtime_error describing what failed; the
-// caller adds the file name.
-
-std::string h5_detail() {
-  std::string out;
-  H5Ewalk2(
-      H5E_DEFAULT, H5E_WALK_UPWARD,
-      [](unsigned n, const H5E_error2_t* e, void* d) -> herr_t {
-        if (n == 0 && e && e->desc) *static_cast<std::string*>(d) = e->desc;
-        return 0;
-      },
-      &out);
-  H5Eclear2(H5E_DEFAULT);
-  return out.empty() ? std::string() : " (" + out + ")";
-}
-
-[[noreturn]] void h5_fail(const std::string& what) {
-  throw std::runtime_error(what + h5_detail());
-}
-
-hid_t check_id(hid_t id, const std::string& what) {
-  if (id < 0) h5_fail(what);
-  return id;
-}
-void check(herr_t r, const std::string& what) {
-  if (r < 0) h5_fail(what);
-}
-
-// Owning HDF5 identifier.
-class Hid {
-public:
-  Hid() = default;
-  Hid(hid_t id, herr_t (*closer)(hid_t), const std::string& what)
-      : id_(check_id(id, what)), closer_(closer) {}
-  Hid(Hid&& o) noexcept : id_(o.id_), closer_(o.closer_) { o.id_ = -1; }
-  Hid& operator=(Hid&& o) noexcept {
-    std::swap(id_, o.id_);
-    std::swap(closer_, o.closer_);
-    return *this;
-  }
-  Hid(const Hid&) = delete;
-  Hid& operator=(const Hid&) = delete;
-  ~Hid() {
-    if (id_ >= 0 && closer_) closer_(id_);
-  }
-  operator hid_t() const { return id_; }
-  // Close now and report failure (used for files, whose close flushes).
-  void close(const std::string& what) {
-    hid_t id = id_;
-    id_ = -1;
-    if (id >= 0) check(closer_(id), what);
-  }
-
-private:
-  hid_t id_ = -1;
-  herr_t (*closer_)(hid_t) = nullptr;
-};
-
-Hid vlen_string_type() {
-  Hid t(H5Tcopy(H5T_C_S1), H5Tclose, "copy string type");
-  check(H5Tset_size(t, H5T_VARIABLE), "set string size");
-  check(H5Tset_cset(t, H5T_CSET_UTF8), "set string charset");
-  return t;
-}
+// HDF5 helpers (core/hdf5_support.hpp). Every function here throws std::runtime_error describing what
+// failed; the caller adds the file name.
+using h5::check;
+using h5::check_id;
+using h5::Hid;
+using h5::vlen_string_type;
 
 // Create or overwrite a scalar attribute.
 void set_attr(hid_t obj, const char* name, hid_t file_type, hid_t mem_type, const void* value) {
