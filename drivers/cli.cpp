@@ -67,6 +67,8 @@ Commands:
   sweep SCENE.yaml   run a scene at several coarse-graining laws and scale factors against the k = 1
                      reference: speed-up and error of each run (sweep.csv, sweep.h5, PNG plots)
   stability SCENE.yaml  probe a range of time steps; largest stable step vs Rayleigh/contact time
+  analyse RUN.h5     evaluate a scene's analyses again over a run's saved frames (other parameters,
+                     other analyses, the parts of a continued run); nothing is simulated
 
 Run 'cgdem <command> --help' for the options of a command.
 
@@ -75,6 +77,7 @@ Examples:
   cgdem run scenes/pile_in_cylinder.yaml --set groups.0.count=1000 --threads 2 --out small.h5
   cgdem check scenes/rotating_drum.yaml
   cgdem sweep sweeps/tiny_pile.yaml --laws chen_elliott,bond --k 1,2,3 --out tiny_sweep
+  cgdem analyse pile.h5 --set analyses.0.bin_width=0.002
 )";
 }
 

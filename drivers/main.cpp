@@ -4,6 +4,7 @@
 #include <iostream>
 #include <string>
 #include <vector>
+#include "drivers/analyse_command.hpp"
 #include "drivers/cli.hpp"
 #include "drivers/commands.hpp"
 #include "drivers/sweep_command.hpp"
@@ -34,7 +35,8 @@ int main(int argc, char** argv) {
   if (command == "check") return cgdem::check_command(args);
   if (command == "info") return cgdem::info_command(args);
   if (command == "stability") return cgdem::stability_command(args);
+  if (command == "analyse" || command == "analyze") return cgdem::analyse_command(args);
   std::cerr << "cgdem: unknown command '" << command
-            << "'; commands: run, check, info, sweep (see cgdem --help)\n";
+            << "'; commands: run, check, info, sweep, stability, analyse (see cgdem --help)\n";
   return 2;
 }

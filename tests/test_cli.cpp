@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <thread>
@@ -246,6 +247,74 @@ TEST_F(CliTest, RestartContinuesTheAnalysesAccumulations) {
   const Result bad = cgdem(common + "--out bad.h5 --restart plain.checkpoint.h5");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("lacks the state of analysis"), std::string::npos) << bad.err;
+}
+
+// `cgdem analyse` evaluates the scene's analyses again over a run's frames and gives what the run gave:
+// from one file, and from the parts of a run continued from a checkpoint between two outputs (the extra
+// frame at the restart kept out of the peak, as the run keeps it). With other parameters it gives what
+// they give, and a misspelt one is refused like the run refuses it.
+TEST_F(CliTest, AnalyseRecomputesTheRunsAnalysesFromItsFrames) {
+  write("base.yaml", std::string(drop_scene) + R"(analyses:
+  - {type: unconfined_strength, name: peak, wall: floor, area: 1.0e-4}
+  - {type: wall_stress, name: floor_stress, wall: floor, area: 1.0e-4}
+  - {type: planar_flow, name: flow, axis: x}
+)");
+  const std::string common = "run base.yaml --quiet --threads 1 --set output.every=0.0025 ";
+  ASSERT_EQ(cgdem(common + "--out full.h5").code, 0);
+  ASSERT_EQ(cgdem(common + "--out mid.h5 --set time.end=0.03375 --checkpoint-every 0.03375").code, 0);
+  ASSERT_EQ(cgdem(common + "--out cont.h5 --restart mid.checkpoint.h5").code, 0);
+  // "name value" lines, the values printed to the last digit.
+  auto outputs = [](const std::string& text) {
+    std::map<std::string, double> v;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) { // strtod, not >>: it reads "nan"
+      const std::size_t space = line.find(' ');
+      if (space != std::string::npos)
+        v[line.substr(0, space)] = std::strtod(line.c_str() + space + 1, nullptr);
+    }
+    return v;
+  };
+  hid_t file = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const int frames = frame_count(file);
+  const char* names[] = {"peak", "peak_peak_strain", "floor_stress", "floor_stress_strain",
+                         "flow", "flow_front"};
+  std::map<std::string, double> run;
+  for (const char* v : names)
+    run[v] = read_doubles(file, std::string("series/") + v).back();
+  H5Fclose(file);
+  ASSERT_GT(run["peak"], 0);
+
+  const Result whole = cgdem("analyse full.h5 --csv frames.csv");
+  ASSERT_EQ(whole.code, 0) << whole.err;
+  const Result parts = cgdem("analyse mid.h5 cont.h5");
+  ASSERT_EQ(parts.code, 0) << parts.err;
+  const auto from_whole = outputs(whole.out), from_parts = outputs(parts.out);
+  for (const char* v : names) {
+    ASSERT_EQ(from_whole.count(v), 1u) << v << " not printed: " << whole.out;
+    EXPECT_EQ(from_whole.at(v), run[v]) << v; // bitwise
+    EXPECT_EQ(from_parts.at(v), run[v]) << v << " from the two parts";
+  }
+  // One row per frame, the outputs as columns.
+  std::istringstream csv(slurp(dir / "frames.csv"));
+  std::string header, line;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("time,step,floor_stress,", 0), 0u) << header;
+  int rows = 0;
+  while (std::getline(csv, line))
+    ++rows;
+  EXPECT_EQ(rows, frames);
+
+  // The continuation alone never saw the peak of the impact, which came before its checkpoint.
+  EXPECT_LT(outputs(cgdem("analyse cont.h5").out).at("peak"), run["peak"]);
+  // Another parameter, another value: twice the area, half the stress.
+  const auto wider = outputs(cgdem("analyse full.h5 --set analyses.0.area=2.0e-4").out);
+  EXPECT_DOUBLE_EQ(wider.at("peak"), 0.5 * run["peak"]);
+  const Result typo = cgdem("analyse full.h5 --set analyses.0.aera=2.0e-4");
+  EXPECT_EQ(typo.code, 2);
+  EXPECT_NE(typo.err.find("analyses.0.aera"), std::string::npos) << typo.err;
+  const Result missing = cgdem("analyse nothing.h5");
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.err.find("nothing.h5"), std::string::npos) << missing.err;
 }
 
 TEST_F(CliTest, SigkillMidRunLeavesEveryCompletedFrameReadable) {
