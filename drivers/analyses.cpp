@@ -480,6 +480,12 @@ public:
     fraction_ = p.num("fit_fraction", 0.6);
     if (!(fraction_ > 0 && fraction_ <= 1))
       p.fail("fit_fraction", "fit_fraction must be in (0, 1]", "e.g. 0.6");
+    bed_fraction_ = p.num("bed_fraction", 0.2);
+    if (!(bed_fraction_ > 0 && bed_fraction_ < 1))
+      p.fail("bed_fraction", "bed_fraction must be in (0, 1)", "the solid fraction of a bed cell, e.g. 0.2");
+    wall_layer_ = p.num("wall_layer", 1.5);
+    if (!(wall_layer_ >= 0))
+      p.fail("wall_layer", "wall_layer must be >= 0", "the cells along the wall left out, e.g. 1.5");
     average_from_ = p.num("average_from", -1);
     if (p.has("average_from") && average_from_ < 0)
       p.fail("average_from", "average_from must be >= 0",
@@ -489,7 +495,8 @@ public:
   void evaluate(const AnalysisInput& in, std::map<std::string, double>& out) override {
     if (in.frame.size() == 0) return;
     const double cell = cell_ > 0 ? cell_ : 4 * max_radius(in.frame);
-    const DrumFit fit = drum_angle(in.frame, center_, axis_, up_, radius_, cell, fraction_);
+    const DrumFit fit =
+        drum_angle(in.frame, center_, axis_, up_, radius_, cell, fraction_, bed_fraction_, wall_layer_);
     out[name()] = fit.angle_deg;
     out[name() + "_rms"] = fit.rms;
     out[name() + "_cells"] = double(fit.cells_used);
@@ -545,7 +552,7 @@ public:
 
 private:
   A3 center_{}, axis_{0, 1, 0}, up_{0, 0, 1};
-  double radius_ = 0, cell_ = 0, fraction_ = 0.6, average_from_ = -1;
+  double radius_ = 0, cell_ = 0, fraction_ = 0.6, bed_fraction_ = 0.2, wall_layer_ = 1.5, average_from_ = -1;
   double sum_ = 0, sum_squares_ = 0, last_time_ = -1, sum_carried_ = 0;
   long frames_ = 0, carried_frames_ = 0; // frames with a free surface; all frames of the window
 };
@@ -891,7 +898,7 @@ PlanarFlowFit planar_flow(const FrameData& f, const std::vector<char>& use, int 
 
 DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, const std::array<double, 3>& axis,
                    const std::array<double, 3>& up, double drum_radius, double cell_width,
-                   double fit_fraction) {
+                   double fit_fraction, double bed_fraction, double wall_layer) {
   DrumFit fit;
   if (f.size() == 0) return fit;
   const A3 eu = cross(up, axis);
@@ -917,20 +924,19 @@ DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, cons
     c.volume += 4.0 / 3.0 * kPi * r * r * r;
     c.top = std::max(c.top, v + r);
   }
-  // A cell is bed when its solid fraction over the occupied length reaches kBedFraction. Each column's
+  // A cell is bed when its solid fraction over the occupied length reaches bed_fraction. Each column's
   // surface is the top of the run of bed cells rising from its lowest one; what lies above a gap (powder
   // coating the wall over the bed, a cohesive powder carried over the top, particles in flight) is not the
-  // surface. Surfaces within kWallLayer cells of the drum wall are the coating on the wall beside the bed.
-  constexpr double kBedFraction = 0.2, kWallLayer = 1.5;
+  // surface. Surfaces within wall_layer cells of the drum wall are the coating on the wall beside the bed.
   const double cell_volume = cell_width * cell_width * (wmax - wmin);
-  const double inner = drum_radius - kWallLayer * cell_width;
+  const double inner = drum_radius - wall_layer * cell_width;
   fit.carried = mass > 0 ? mass_above / mass : 0;
   std::vector<std::array<double, 2>> surface;
   for (const auto& column : columns) {
     long top_cell = 0;
     bool found = false;
     for (const auto& cell : column.second) { // ascending v
-      const bool bed = cell.second.volume >= kBedFraction * cell_volume;
+      const bool bed = cell.second.volume >= bed_fraction * cell_volume;
       if (!found && bed) {
         found = true;
         top_cell = cell.first;

@@ -145,16 +145,16 @@ struct DrumFit {
 // Bed in a drum of radius drum_radius: axis through `center` along `axis`, `up` = the upward direction
 // (perpendicular to the axis). The cross-section seen along the axis (u = up x axis, v = up) in square
 // cells of cell_width; a cell is bed when its solid fraction over the particles' length along the axis is
-// at least 0.2. Each u column's surface point is the top (v + r) of the highest particle in the run of
-// bed cells rising from its lowest one, so that powder stuck to the wall above the bed (a cohesive powder
-// coats the drum and is carried over the top) or in flight is not read as the surface; points within 1.5
-// cells of the drum wall are that coating beside the bed and are dropped. The points whose u lies in the
-// central `fit_fraction` of their u range are fitted with a total least squares line; the angle is its
-// tilt, rms its residual, cells_used the points fitted. `carried` is the share of the mass above the axis:
-// powder stuck to the wall and carried over the top (a bed filled up to 0.5 lies below the axis).
+// at least bed_fraction. Each u column's surface point is the top (v + r) of the highest particle in the
+// run of bed cells rising from its lowest one, so that powder stuck to the wall above the bed (a cohesive
+// powder coats the drum and is carried over the top) or in flight is not read as the surface; points
+// within wall_layer cells of the drum wall are that coating beside the bed and are dropped. The points whose
+// u lies in the central `fit_fraction` of their u range are fitted with a total least squares line; the angle
+// is its tilt, rms its residual, cells_used the points fitted. `carried` is the share of the mass above the
+// axis: powder stuck to the wall and carried over the top (a bed filled up to 0.5 lies below the axis).
 DrumFit drum_angle(const FrameData& f, const std::array<double, 3>& center, const std::array<double, 3>& axis,
                    const std::array<double, 3>& up, double drum_radius, double cell_width,
-                   double fit_fraction);
+                   double fit_fraction, double bed_fraction = 0.2, double wall_layer = 1.5);
 
 struct PlanarFlowFit {
   // nan until defined: no particles, or (angle, r2) fewer than 2 flank bins

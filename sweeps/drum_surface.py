@@ -1,28 +1,29 @@
 #!/usr/bin/python3
 """The dynamic angle of every run of a drum sweep, from its saved frames: the bed's free-surface angle of
-each frame by the engine's `drum_angle` method (drivers/analyses.cpp: the cross-section seen along the axis in
-square cells of 4 largest radii, a cell being bed at a solid fraction of 0.2, each column's surface the top of
-the run of bed cells rising from its lowest one, points within 1.5 cells of the drum wall dropped, a total
-least squares line through the central fit fraction), its mean and standard deviation over a time window,
-and each law's mean over the seeds against the reference's.
+each frame as the engine's `drum_angle` analysis computes it (evaluated again by `cgdem analyse` over the
+run's frames, so that a run recorded with another method or other parameters is read the same way), its
+mean and standard deviation over a time window, and each law's mean over the seeds against the reference's.
 
     /usr/bin/python3 sweeps/drum_surface.py SWEEP_DIR --scene sweeps/chen_drum_paper.yaml --from 1.5 --to 7.5 \\
         [--fit-fraction 0.6] [--cell-factor 4] [--wall-layer 1.5] [--bed-fraction 0.2] \\
         [--png angle_time.png] [--csv angles.csv] [--frames-png cross_sections.png --at 2 4 7]
 
 Reads SWEEP_DIR/runs/<run>/run.part<N>.h5 then run.h5 (a run continued from checkpoints) of every run with a
-record in SWEEP_DIR/records (a finished run), and the drum from the scene (its first `drum_angle` analysis:
-the wall's point, axis and radius; gravity gives "up"). Besides the angle it reports the mass fraction above
-the drum's axis: powder stuck to the wall and carried over the top. --cell-factor, --wall-layer and
---bed-fraction vary the cell width (in largest radii), the dropped wall layer (in cells) and the solid
-fraction of a bed cell, to show how much of an angle is the method's. It computes what the runs' own
-analysis computes, also for runs whose records hold an angle from another method.
+record in SWEEP_DIR/records (a finished run). The analysis is the run's own first `drum_angle` (the scene
+stored in its result file) with the options below set on it; --scene gives the drum's size for the layer
+figure and the cross-sections. Besides the angle it reports the mass fraction above the drum's axis
+(powder stuck to the wall and carried over the top, the analysis' `_carried`). --cell-factor, --wall-layer,
+--bed-fraction and --fit-fraction are the analysis' cell_width (in largest radii), wall_layer, bed_fraction
+and fit_fraction, to show how much of an angle is the method's. The cgdem executable: $CGDEM, else the
+repository's build/cgdem, else `cgdem` on the PATH.
 """
 import argparse
 import math
 import os
 import re
+import subprocess
 import sys
+import tempfile
 
 try:
     import h5py
@@ -45,81 +46,58 @@ def drum_of(scene_path):
     return np.array(wall["point"], float), axis, up, float(wall["radius"]), float(wall.get("length", 0)), bool(wall.get("caps", False))
 
 
-def frame_angle(pos, rad, drum, cell_factor=4.0, wall_layer=1.5, bed_fraction=0.2, fit_fraction=0.6):
-    """The engine's drum_angle of one frame: (angle in degrees, points fitted)."""
-    center, axis, up, drum_radius = drum[:4]
-    cell = cell_factor * rad.max()
-    d = pos - center
-    u, v, w = d @ np.cross(up, axis), d @ up, d @ axis
-    length = (w + rad).max() - (w - rad).min()
-    iu, iv = np.floor(u / cell).astype(np.int64), np.floor(v / cell).astype(np.int64)
-    volume, top = {}, {}
-    for a, b, vol, t in zip(iu, iv, 4.0 / 3.0 * math.pi * rad**3, v + rad):
-        volume[a, b] = volume.get((a, b), 0.0) + vol
-        top[a, b] = max(top.get((a, b), -math.inf), t)
-    bed = {}
-    for (a, b), vol in volume.items():
-        if vol >= bed_fraction * cell * cell * length:
-            bed.setdefault(a, set()).add(b)
-    inner = drum_radius - wall_layer * cell
-    pts = []
-    for a, cells in bed.items():
-        b = min(cells)
-        while b + 1 in cells:
-            b += 1
-        uc, vt = (a + 0.5) * cell, top[a, b]
-        if uc * uc + vt * vt < inner * inner:
-            pts.append((uc, vt))
-    if not pts:
-        return float("nan"), 0
-    p = np.array(pts)
-    lo, hi = p[:, 0].min(), p[:, 0].max()
-    p = p[np.abs(p[:, 0] - 0.5 * (lo + hi)) <= 0.5 * fit_fraction * (hi - lo)]
-    if len(p) < 2:
-        return float("nan"), len(p)
-    m = p - p.mean(axis=0)
-    suu, svv, suv = (m[:, 0] ** 2).mean(), (m[:, 1] ** 2).mean(), (m[:, 0] * m[:, 1]).mean()
-    return abs(math.degrees(0.5 * math.atan2(2 * suv, suu - svv))), len(p)
+def cgdem_binary():
+    repo_build = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "build", "cgdem")
+    return os.environ.get("CGDEM") or (repo_build if os.access(repo_build, os.X_OK) else "cgdem")
 
 
-def carried(pos, rad, drum):
-    """The mass fraction above the drum's axis (powder carried up the wall and over the top; the bed of a
-    drum filled 0.14 lies below the axis), and that powder as a layer on the wall above the axis (the upper
+def layer_per_carried_fraction(first_file, drum):
+    """The factor that turns the carried mass fraction into a layer on the wall above the axis (the upper
     half of the shell and of the caps), in particle diameters: the same for two sizes when each keeps the
     same number of particle layers on the wall."""
-    center, _, up, radius, length, caps = drum
-    volume = 4.0 / 3.0 * math.pi * rad**3
-    above = volume[(pos - center) @ up > 0].sum()
+    _, _, _, radius, length, caps = drum
+    with h5py.File(first_file, "r") as f:
+        rad = f["frames"][sorted(f["frames"])[0]]["radius"][:]
     area = math.pi * radius * length + (math.pi * radius**2 if caps else 0.0)
-    return above / volume.sum(), above / area / (2 * rad.max()) if area > 0 else float("nan")
+    volume = (4.0 / 3.0 * math.pi * rad**3).sum()
+    return volume / area / (2 * rad.max()) if area > 0 else float("nan")
 
 
-def frames_of(rundir, t0, t1):
-    """{time: (file, frame)}: a later piece's frame replaces an earlier one of the same time."""
-    frames = {}
+def run_series(rundir, drum, cell_factor=4.0, wall_layer=1.5, bed_fraction=0.2, fit_fraction=0.6):
+    """Every frame's time, angle, carried mass fraction and layer (diameters) of the run in `rundir`:
+    `cgdem analyse` over its pieces with its own first drum_angle analysis and these parameters."""
+    files = run_pieces(rundir)
+    with h5py.File(files[0], "r") as f:
+        stored = yaml.safe_load(f.attrs["scene"])
+        rmax = f["frames"][sorted(f["frames"])[0]]["radius"][:].max()
+    index = next(k for k, a in enumerate(stored.get("analyses", [])) if a.get("type") == "drum_angle")
+    name = stored["analyses"][index].get("name", "drum_angle")
+    sets = [f"analyses.{index}.{key}={value!r}" for key, value in
+            (("cell_width", float(cell_factor * rmax)), ("wall_layer", wall_layer), ("bed_fraction", bed_fraction),
+             ("fit_fraction", fit_fraction))]
+    with tempfile.TemporaryDirectory() as tmp:
+        table = os.path.join(tmp, "frames.csv")
+        cmd = [cgdem_binary(), "analyse", *files, "--csv", table] + [x for s in sets for x in ("--set", s)]
+        done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if done.returncode != 0:
+            sys.exit(f"drum_surface.py: {' '.join(cmd)} failed: {done.stderr.strip()}")
+        rows = np.genfromtxt(table, delimiter=",", names=True)
+    carried = rows[name + "_carried"]
+    return np.round(rows["time"], 9), rows[name], carried, carried * layer_per_carried_fraction(files[0], drum)
+
+
+def frame_at(rundir, t_at):
+    """The positions, radii and time of the saved frame nearest t_at (the last piece holding it)."""
+    best = None
     for fn in run_pieces(rundir):
         with h5py.File(fn, "r") as f:
             for name in f["frames"]:
-                t = round(float(f["frames"][name].attrs["time"]), 9)
-                if t0 <= t <= t1:
-                    frames[t] = (fn, name)
-    return frames
-
-
-def run_series(rundir, drum, t0, t1, **kw):
-    frames = frames_of(rundir, t0, t1)
-    times, angles, fractions, layers = [], [], [], []
-    for t in sorted(frames):
-        fn, name = frames[t]
-        with h5py.File(fn, "r") as f:
-            g = f["frames"][name]
-            pos, rad = g["position"][:], g["radius"][:]
-        times.append(t)
-        angles.append(frame_angle(pos, rad, drum, **kw)[0])
-        fraction, layer = carried(pos, rad, drum)
-        fractions.append(fraction)
-        layers.append(layer)
-    return np.array(times), np.array(angles), np.array(fractions), np.array(layers)
+                t = float(f["frames"][name].attrs["time"])
+                if best is None or abs(t - t_at) <= abs(best[0] - t_at):
+                    best = (t, fn, name)
+    t, fn, name = best
+    with h5py.File(fn, "r") as f:
+        return f["frames"][name]["position"][:], f["frames"][name]["radius"][:], t
 
 
 def law_of(run):
@@ -153,8 +131,7 @@ def main():
     records = os.path.join(a.sweep_dir, "records")
     runs = sorted(d for d in os.listdir(os.path.join(a.sweep_dir, "runs"))
                   if not d.startswith(".") and (not os.path.isdir(records) or os.path.exists(os.path.join(records, d + ".txt"))))
-    whole = a.png or a.csv
-    series = {r: run_series(os.path.join(a.sweep_dir, "runs", r), drum, 0 if whole else a.t0, a.t1, **kw) for r in runs}
+    series = {r: run_series(os.path.join(a.sweep_dir, "runs", r), drum, **kw) for r in runs}
     print(f"window {a.t0}-{a.t1} s; cell {a.cell_factor} radii, wall layer {a.wall_layer} cells, "
           f"bed fraction {a.bed_fraction}, fit fraction {a.fit_fraction}")
     print("run, frames, mean angle (deg), its std over the window, fitless frames, mean mass fraction above "
@@ -215,20 +192,16 @@ def main():
         eu = np.cross(up, axis)
         fig, ax = plt.subplots(len(a.at), len(shown), figsize=(3.2 * len(shown), 3.2 * len(a.at)), squeeze=False)
         for j, r in enumerate(shown):
-            frames = frames_of(os.path.join(a.sweep_dir, "runs", r), 0, float("inf"))
+            times, angles, fractions, _ = series[r]
             for i, t_at in enumerate(a.at):
-                t = min(frames, key=lambda x: abs(x - t_at))
-                fn, name = frames[t]
-                with h5py.File(fn, "r") as f:
-                    g = f["frames"][name]
-                    pos, rad = g["position"][:], g["radius"][:]
+                pos, rad, t = frame_at(os.path.join(a.sweep_dir, "runs", r), t_at)
+                k = int(np.argmin(np.abs(times - t)))
                 d = pos - center
                 x = ax[i][j]
                 points_per_mm = 2.9 * 72 / (2.1e3 * radius)  # a panel ~2.9 inches across 2.1 drum radii
                 x.scatter(1e3 * (d @ eu), 1e3 * (d @ up), s=(2e3 * rad * points_per_mm) ** 2, lw=0, color="C0")
                 x.add_patch(plt.Circle((0, 0), 1e3 * radius, fill=False, color="0.4"))
-                angle = frame_angle(pos, rad, drum, **kw)[0]
-                x.set_title(f"{r}, t = {t:.2f} s\nangle {angle:.1f} deg, above axis {carried(pos, rad, drum)[0]:.2f}", fontsize=8)
+                x.set_title(f"{r}, t = {t:.2f} s\nangle {angles[k]:.1f} deg, above axis {fractions[k]:.2f}", fontsize=8)
                 x.set_xlim(-1.05e3 * radius, 1.05e3 * radius)
                 x.set_ylim(-1.05e3 * radius, 1.05e3 * radius)
                 x.set_aspect("equal")
