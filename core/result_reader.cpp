@@ -79,6 +79,11 @@ ResultReader::ResultReader(const std::string& path) : path_(path) {
   }
 }
 
+ResultReader::~ResultReader() {
+  H5Guard guard;
+  file_ = Hid(); // the file's identifier closed here, inside the guard
+}
+
 FrameData ResultReader::frame(std::size_t k) const {
   if (k >= frames_)
     throw std::runtime_error("result file '" + path_ + "': no frame " + std::to_string(k) + " (it holds " +

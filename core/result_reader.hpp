@@ -16,6 +16,9 @@ public:
   // Opens the file and reads its attributes and series; throws std::runtime_error naming the path when it
   // is not a cgdem result (no scene or time step attribute, no /frames) or cannot be read.
   explicit ResultReader(const std::string& path);
+  ~ResultReader(); // closes the file under the process-wide HDF5 lock
+  ResultReader(const ResultReader&) = delete;
+  ResultReader& operator=(const ResultReader&) = delete;
 
   const std::string& path() const { return path_; }
   const std::string& scene_yaml() const { return scene_yaml_; }
