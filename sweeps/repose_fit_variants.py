@@ -1,51 +1,55 @@
 #!/usr/bin/python3
-"""How much an angle of repose depends on the fit's choices: refits the last frame of every run of a
-cylinder-lift sweep (DIR/runs/<run>/run.h5) with the engine's method (docs/sweeps.md, angle_of_repose:
-per radial bin the highest particle top of each azimuthal sector, averaged over the sectors, a line fitted
-through the bins between 20 % and 80 % of the pile's height) under other bin widths, sector counts and the
-median over the sectors instead of the mean, and prints each run's angles and, per case, the mean, the
-seed-to-seed standard deviation and the error of the mean against the first reference run.
+"""How much an angle of repose depends on the fit's choices: the engine's `angle_of_repose` analysis
+(docs/sweeps.md: per radial bin the highest particle top of each azimuthal sector, averaged over the
+sectors, a line fitted through the bins between 20 % and 80 % of the pile's height) evaluated again by
+`cgdem analyse` on the last frame of every run of a cylinder-lift sweep (DIR/runs/<run>/run.h5) under other
+bin widths, sector counts and the median over the sectors instead of the mean; prints each run's angles
+and, per case, the mean, the seed-to-seed standard deviation and the error of the mean against the
+reference runs. The cgdem executable: $CGDEM, else the repository's build/cgdem, else `cgdem` on the PATH.
 
     /usr/bin/python3 sweeps/repose_fit_variants.py DIR [--center 0 0] [--floor 0]
 """
 import argparse
 import os
 import re
+import subprocess
 import sys
 
 try:
     import h5py
     import numpy as np
+    import yaml
 except ImportError as e:
-    sys.exit(f"repose_fit_variants.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-numpy)")
+    sys.exit(f"repose_fit_variants.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, -numpy, -yaml)")
 
 VARIANTS = [(0.001, 8, "mean"), (0.002, 8, "mean"), (0.002, 16, "mean"), (0.002, 8, "median")]
 
 
-def last_frame(path):
+def cgdem_binary():
+    repo_build = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "build", "cgdem")
+    return os.environ.get("CGDEM") or (repo_build if os.access(repo_build, os.X_OK) else "cgdem")
+
+
+def angles(path, center, floor):
+    """The angle of the run's last frame under each of VARIANTS: its own first angle_of_repose analysis,
+    with the variant's bin width, sectors and sector statistic (and the given centre and floor)."""
     with h5py.File(path, "r") as f:
-        g = f["frames"][sorted(f["frames"].keys())[-1]]
-        return g["position"][()], g["radius"][()]
-
-
-def angle(x, r, centre, floor, bin_width, sectors, stat):
-    dx, dy = x[:, 0] - centre[0], x[:, 1] - centre[1]
-    top = x[:, 2] + r - floor
-    height = top.max()
-    sector = np.minimum(((np.arctan2(dy, dx) + np.pi) / (2 * np.pi) * sectors).astype(int), sectors - 1)
-    ring = (np.hypot(dx, dy) / bin_width).astype(int)
-    radii, heights = [], []
-    for b in range(ring.max() + 1):
-        tops = [top[(ring == b) & (sector == s)].max() for s in range(sectors) if ((ring == b) & (sector == s)).any()]
-        if not tops:
-            continue
-        h = np.mean(tops) if stat == "mean" else np.median(tops)
-        if 0.2 * height <= h <= 0.8 * height:
-            radii.append((b + 0.5) * bin_width)
-            heights.append(h)
-    if len(radii) < 2:
-        return float("nan")
-    return float(np.degrees(np.arctan(-np.polyfit(radii, heights, 1)[0])))
+        stored = yaml.safe_load(f.attrs["scene"])
+    index = next(k for k, a in enumerate(stored.get("analyses", [])) if a.get("type") == "angle_of_repose")
+    name = stored["analyses"][index].get("name", "angle_of_repose")
+    out = []
+    for bin_width, sectors, statistic in VARIANTS:
+        sets = {"bin_width": bin_width, "sectors": sectors, "sector_statistic": statistic,
+                "center": f"[{center[0]!r}, {center[1]!r}]", "floor": floor}
+        cmd = [cgdem_binary(), "analyse", path]
+        for key, value in sets.items():
+            cmd += ["--set", f"analyses.{index}.{key}={value}"]
+        done = subprocess.run(cmd, capture_output=True, text=True)
+        if done.returncode != 0:
+            sys.exit(f"repose_fit_variants.py: {' '.join(cmd)} failed: {done.stderr.strip()}")
+        values = dict(line.split(" ", 1) for line in done.stdout.splitlines() if " " in line)
+        out.append(float(values[name]))
+    return out
 
 
 def main():
@@ -59,19 +63,18 @@ def main():
                   and os.path.exists(os.path.join(a.dir, "records", d + ".txt")))
     names = [f"{w * 1e3:g}mm/{s}{'' if st == 'mean' else '/median'}" for w, s, st in VARIANTS]
     print("run," + ",".join(names))
-    angles = {}
+    found = {}
     for run in runs:
-        x, r = last_frame(os.path.join(a.dir, "runs", run, "run.h5"))
-        angles[run] = [angle(x, r, a.center, a.floor, *v) for v in VARIANTS]
-        print(run + "," + ",".join(f"{v:.1f}" for v in angles[run]))
+        found[run] = angles(os.path.join(a.dir, "runs", run, "run.h5"), a.center, a.floor)
+        print(run + "," + ",".join(f"{v:.1f}" for v in found[run]))
     refs = [k for k in runs if k.startswith("reference")]
     if not refs:
         return
-    ref = np.mean([angles[k] for k in refs], axis=0)
+    ref = np.mean([found[k] for k in refs], axis=0)
     cases = sorted({re.sub(r"_s\d+$", "", k) for k in runs if not k.startswith("reference")})
     print("case,seeds," + ",".join(f"{n} mean,sd,err" for n in names))
     for c in cases:
-        m = np.array([angles[k] for k in runs if re.sub(r"_s\d+$", "", k) == c])
+        m = np.array([found[k] for k in runs if re.sub(r"_s\d+$", "", k) == c])
         sd = m.std(axis=0, ddof=1) if len(m) > 1 else np.zeros(len(VARIANTS))
         cells = [f"{mu:.1f},{s:.1f},{mu / rv - 1:+.3f}" for mu, s, rv in zip(m.mean(axis=0), sd, ref)]
         print(f"{c},{len(m)}," + ",".join(cells))
