@@ -49,6 +49,11 @@ struct MeshGeometry {
 template <class ExecSpace>
 class MeshWalls {
 public:
+  // The cells, inclusive, that a triangle's box grown by the reach covers (build's binning). At class scope:
+  // a device lambda's return type cannot be local to the function that holds it (CUDA).
+  struct CellRange {
+    int lo[3], hi[3];
+  };
   using Mem = typename ExecSpace::memory_space;
 
   bool empty() const { return num_triangles_ == 0; }
@@ -169,11 +174,8 @@ public:
     const auto cell_fill = cell_fill_;
     const Real grow = max_radius + extra;
     // The cells a triangle's grown box covers (clamped to the grid like the particles).
-    struct Range {
-      int lo[3], hi[3];
-    };
     auto range_of = [=] KOKKOS_FUNCTION(int t) {
-      Range r;
+      CellRange r;
       const Vec3 a = geo.vertex(geo.triangles(t, 0)), b = geo.vertex(geo.triangles(t, 1)),
                  c = geo.vertex(geo.triangles(t, 2));
       for (int k = 0; k < 3; ++k) {
@@ -191,7 +193,7 @@ public:
     Kokkos::parallel_for(
         "cgdem::kernels::mesh_bin_count", Kokkos::RangePolicy<ExecSpace>(0, num_triangles_),
         KOKKOS_LAMBDA(int t) {
-          const Range r = range_of(t);
+          const CellRange r = range_of(t);
           for (int z = r.lo[2]; z <= r.hi[2]; ++z)
             for (int y = r.lo[1]; y <= r.hi[1]; ++y)
               for (int x = r.lo[0]; x <= r.hi[0]; ++x)
@@ -205,7 +207,7 @@ public:
     Kokkos::parallel_for(
         "cgdem::kernels::mesh_bin_fill", Kokkos::RangePolicy<ExecSpace>(0, num_triangles_),
         KOKKOS_LAMBDA(int t) {
-          const Range r = range_of(t);
+          const CellRange r = range_of(t);
           for (int z = r.lo[2]; z <= r.hi[2]; ++z)
             for (int y = r.lo[1]; y <= r.hi[1]; ++y)
               for (int x = r.lo[0]; x <= r.hi[0]; ++x) {
