@@ -64,7 +64,9 @@ Options:
 What the frames hold limits what can be recomputed: the wall forces come from the file's series (the
 force each named wall felt at that output); an analysis of velocities needs frames written with them
 (output.fields). A wall segment that ended at a force (until_force) is assumed to have run to its stop
-time, so strains measured after such an end follow the scene's schedule, not the wall.
+time, so strains measured after such an end follow the scene's schedule, not the wall. An analysis that
+writes its own file (a profile's or a distribution's `csv`) writes it again: give it another name with
+--set analyses.N.csv=FILE to keep the run's.
 
 Examples:
   cgdem analyse drum.h5 --set analyses.0.cell_width=0.003 --csv angles.csv
