@@ -34,10 +34,10 @@ COLOURS = {"Chen's law": "tab:blue", "Bond": "tab:orange", "Cohesion number": "t
            "Chen's law, gamma ~ k": "tab:purple"}
 
 
-def pile_heights(results, directory, prefix):
+def pile_heights(results, directory, prefix, k="_k2"):
     d = os.path.join(results, directory, "records")
     return [record_value(os.path.join(d, f), "repose_height") * 1e3 for f in sorted(os.listdir(d))
-            if re.fullmatch(prefix + r"_k2_s\d+\.txt", f)]
+            if re.fullmatch(prefix + k + r"_s\d+\.txt", f)]
 
 
 def window_means(path, prefix, t0=1.5, t1=7.5):
@@ -59,9 +59,10 @@ def main():
     ap.add_argument("--out", default="pulloff_exponent.png")
     a = ap.parse_args()
     fig, (pile, drum) = plt.subplots(1, 2, figsize=(11, 4.6))
-    original = record_value(os.path.join(a.results, "chen_repose_paper", "records", "reference_s1.txt"),
-                            "repose_height") * 1e3
-    pile.axhline(original, color="k", lw=1.5, label=f"original, 40,000 ({original:.1f} mm)")
+    originals = pile_heights(a.results, "chen_repose_paper", "reference", k="")
+    original = sum(originals) / len(originals)
+    pile.axhline(original, color="k", lw=1.5,
+                 label=f"original, 40,000 ({original:.2f} mm, mean of {len(originals)} seeds)")
     for directory, prefix, label, n in PILE:
         h = pile_heights(a.results, directory, prefix)
         x = n + (0.04 if label == "Bond" else 0.0)
