@@ -236,6 +236,22 @@ TEST(Analyses, DrumAngleIsTheBedsSurfaceNotThePowderCoatingTheWall) {
   const DrumFit fit = drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.02, 0.0012, 0.6);
   EXPECT_NEAR(fit.angle_deg, 28, 1.0);
   EXPECT_GT(fit.cells_used, 10u);
+  // The method's knobs. Over the whole u range (fit_fraction 1) the bed's ends, where its surface bends
+  // into the curved wall, pull the line flat; a wider wall layer (5 cells instead of 1.5) leaves them out.
+  const DrumFit whole = drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.02, 0.0012, 1.0, 0.2, 1.5);
+  const DrumFit wide_layer = drum_angle(f, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.02, 0.0012, 1.0, 0.2, 5.0);
+  EXPECT_GT(std::abs(whole.angle_deg - 28), 2.0);
+  EXPECT_NEAR(wide_layer.angle_deg, 28, 1.0);
+  EXPECT_LT(wide_layer.cells_used, whole.cells_used);
+  // A sparse cloud over half the bed (a particle per 2 mm, up to 3 mm above it) is not bed at a solid
+  // fraction of 0.2, and is read as the surface (a steeper one) at a threshold below its own.
+  FrameData cloud = f;
+  for (double x = 0.0; x < 0.012; x += 0.002)
+    for (double h = 0.0008; h < 0.003; h += 0.0006)
+      add(cloud, x, 0.0, std::tan(28 * kPi / 180) * x - 0.004 + h, 0.0003);
+  EXPECT_NEAR(drum_angle(cloud, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.02, 0.0012, 0.6, 0.2, 1.5).angle_deg, 28,
+              1.0);
+  EXPECT_GT(drum_angle(cloud, {0, 0, 0}, {0, 1, 0}, {0, 0, 1}, 0.02, 0.0012, 0.6, 0.001, 1.5).angle_deg, 31);
 }
 
 TEST(Analyses, DrumCarriedMassIsTheShareAboveTheAxis) {
