@@ -21,9 +21,7 @@ import argparse
 import math
 import os
 import re
-import subprocess
 import sys
-import tempfile
 
 try:
     import h5py
@@ -31,7 +29,7 @@ try:
     import yaml
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"drum_surface.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, -numpy, -yaml)")
-from run_pieces import run_pieces
+from run_pieces import analyse, analysis_of, run_pieces, stored_scene
 
 
 def drum_of(scene_path):
@@ -44,11 +42,6 @@ def drum_of(scene_path):
     up = -(g - g.dot(axis) * axis)
     up /= np.linalg.norm(up)
     return np.array(wall["point"], float), axis, up, float(wall["radius"]), float(wall.get("length", 0)), bool(wall.get("caps", False))
-
-
-def cgdem_binary():
-    repo_build = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "build", "cgdem")
-    return os.environ.get("CGDEM") or (repo_build if os.access(repo_build, os.X_OK) else "cgdem")
 
 
 def layer_per_carried_fraction(first_file, drum):
@@ -68,20 +61,12 @@ def run_series(rundir, drum, cell_factor=4.0, wall_layer=1.5, bed_fraction=0.2, 
     `cgdem analyse` over its pieces with its own first drum_angle analysis and these parameters."""
     files = run_pieces(rundir)
     with h5py.File(files[0], "r") as f:
-        stored = yaml.safe_load(f.attrs["scene"])
         rmax = f["frames"][sorted(f["frames"])[0]]["radius"][:].max()
-    index = next(k for k, a in enumerate(stored.get("analyses", [])) if a.get("type") == "drum_angle")
-    name = stored["analyses"][index].get("name", "drum_angle")
-    sets = [f"analyses.{index}.{key}={value!r}" for key, value in
-            (("cell_width", float(cell_factor * rmax)), ("wall_layer", wall_layer), ("bed_fraction", bed_fraction),
-             ("fit_fraction", fit_fraction))]
-    with tempfile.TemporaryDirectory() as tmp:
-        table = os.path.join(tmp, "frames.csv")
-        cmd = [cgdem_binary(), "analyse", *files, "--csv", table] + [x for s in sets for x in ("--set", s)]
-        done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        if done.returncode != 0:
-            sys.exit(f"drum_surface.py: {' '.join(cmd)} failed: {done.stderr.strip()}")
-        rows = np.genfromtxt(table, delimiter=",", names=True)
+    index, spec = analysis_of(stored_scene(files[0]), "drum_angle")
+    name = spec.get("name", "drum_angle")
+    rows = analyse(files, [f"analyses.{index}.{key}={value!r}" for key, value in
+                           (("cell_width", float(cell_factor * rmax)), ("wall_layer", wall_layer),
+                            ("bed_fraction", bed_fraction), ("fit_fraction", fit_fraction))])
     carried = rows[name + "_carried"]
     return np.round(rows["time"], 9), rows[name], carried, carried * layer_per_carried_fraction(files[0], drum)
 

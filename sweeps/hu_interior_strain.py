@@ -18,9 +18,7 @@ repository's build/cgdem, else `cgdem` on the PATH.
 import argparse
 import os
 import re
-import subprocess
 import sys
-import tempfile
 
 try:
     import h5py
@@ -28,33 +26,21 @@ try:
     import yaml
 except ImportError as e:
     sys.exit(f"hu_interior_strain.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, -numpy, -yaml)")
-from run_pieces import run_pieces
+from run_pieces import analyse, analysis_of, run_pieces, stored_scene
 
 NAMES = {"reference": "original", "hu_method1": "Method 1", "hu_method2": "Method 2", "hu_method3": "Method 3"}
-
-
-def cgdem_binary():
-    repo_build = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "build", "cgdem")
-    return os.environ.get("CGDEM") or (repo_build if os.access(repo_build, os.X_OK) else "cgdem")
 
 
 def interior(rundir, slab, start):
     """(time, interior strain, piston stress) of every frame of the run's second stage."""
     files = run_pieces(rundir)
-    with h5py.File(files[0], "r") as f:
-        scene = yaml.safe_load(f.attrs["scene"])
-        lo, hi = scene["domain"]["lo"], scene["domain"]["hi"]
-    stress = next(a for a in scene["analyses"] if a["type"] == "wall_stress")
+    scene = stored_scene(files[0])
+    lo, hi = scene["domain"]["lo"], scene["domain"]["hi"]
+    stress = analysis_of(scene, "wall_stress")[1]
     added = {"type": "profile", "name": "interior", "axis": "z", "bins": 1,
              "region": [lo[0], lo[1], slab[0], hi[0], hi[1], slab[1]]}
     analyses = yaml.safe_dump([stress, added], default_flow_style=True, width=10000).strip()
-    with tempfile.TemporaryDirectory() as tmp:
-        table = os.path.join(tmp, "frames.csv")
-        cmd = [cgdem_binary(), "analyse", *files, "--set", f"analyses={analyses}", "--csv", table]
-        done = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-        if done.returncode != 0:
-            sys.exit(f"hu_interior_strain.py: {' '.join(cmd)} failed: {done.stderr.strip()}")
-        rows = np.genfromtxt(table, delimiter=",", names=True)
+    rows = analyse(files, [f"analyses={analyses}"])
     t, nu = rows["time"], 1 - rows["interior"]
     nu0 = np.interp(start, t, nu)
     return t, 1 - nu0 / nu, rows[stress["name"]]

@@ -12,43 +12,30 @@ reference runs. The cgdem executable: $CGDEM, else the repository's build/cgdem,
 import argparse
 import os
 import re
-import subprocess
 import sys
 
 try:
-    import h5py
+    import h5py  # noqa: F401 (run_pieces reads the stored scenes with it)
     import numpy as np
-    import yaml
+    import yaml  # noqa: F401
 except ImportError as e:
     sys.exit(f"repose_fit_variants.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, -numpy, -yaml)")
+from run_pieces import analyse, analysis_of, stored_scene
 
 VARIANTS = [(0.001, 8, "mean"), (0.002, 8, "mean"), (0.002, 16, "mean"), (0.002, 8, "median")]
-
-
-def cgdem_binary():
-    repo_build = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "build", "cgdem")
-    return os.environ.get("CGDEM") or (repo_build if os.access(repo_build, os.X_OK) else "cgdem")
 
 
 def angles(path, center, floor):
     """The angle of the run's last frame under each of VARIANTS: its own first angle_of_repose analysis,
     with the variant's bin width, sectors and sector statistic (and the given centre and floor)."""
-    with h5py.File(path, "r") as f:
-        stored = yaml.safe_load(f.attrs["scene"])
-    index = next(k for k, a in enumerate(stored.get("analyses", [])) if a.get("type") == "angle_of_repose")
-    name = stored["analyses"][index].get("name", "angle_of_repose")
+    index, spec = analysis_of(stored_scene(path), "angle_of_repose")
+    name = spec.get("name", "angle_of_repose")
     out = []
     for bin_width, sectors, statistic in VARIANTS:
         sets = {"bin_width": bin_width, "sectors": sectors, "sector_statistic": statistic,
                 "center": f"[{center[0]!r}, {center[1]!r}]", "floor": floor}
-        cmd = [cgdem_binary(), "analyse", path]
-        for key, value in sets.items():
-            cmd += ["--set", f"analyses.{index}.{key}={value}"]
-        done = subprocess.run(cmd, capture_output=True, text=True)
-        if done.returncode != 0:
-            sys.exit(f"repose_fit_variants.py: {' '.join(cmd)} failed: {done.stderr.strip()}")
-        values = dict(line.split(" ", 1) for line in done.stdout.splitlines() if " " in line)
-        out.append(float(values[name]))
+        last = analyse([path], [f"analyses.{index}.{key}={value}" for key, value in sets.items()], per_frame=False)
+        out.append(last[name])
     return out
 
 

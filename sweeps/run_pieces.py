@@ -38,3 +38,47 @@ def record_value(path, name):
             if len(parts) == 3 and parts[0] == "value" and parts[1] == name:
                 return float(parts[2])
     raise KeyError(f"{path}: no value {name}")
+
+
+def cgdem_binary():
+    """The cgdem executable the scripts call: $CGDEM, else the repository's build/cgdem, else `cgdem` on
+    the PATH."""
+    repo_build = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "build", "cgdem")
+    return os.environ.get("CGDEM") or (repo_build if os.access(repo_build, os.X_OK) else "cgdem")
+
+
+def stored_scene(path):
+    """The scene a result file was run with (its `scene` attribute, the resolved YAML), as a dict."""
+    import h5py
+    import yaml
+
+    with h5py.File(path, "r") as f:
+        return yaml.safe_load(f.attrs["scene"])
+
+
+def analysis_of(scene, kind):
+    """(index, spec) of the scene's first analysis of type `kind`."""
+    return next((k, a) for k, a in enumerate(scene.get("analyses", [])) if a.get("type") == kind)
+
+
+def analyse(files, sets, per_frame=True):
+    """`cgdem analyse FILES --set ...` (sets: "key.path=value" strings): every frame's outputs as a numpy
+    record array (per_frame), or the last frame's as a dict of floats. Exits with cgdem's message when it
+    fails."""
+    import subprocess
+    import sys
+    import tempfile
+
+    import numpy as np
+
+    with tempfile.TemporaryDirectory() as tmp:
+        table = os.path.join(tmp, "frames.csv")
+        cmd = [cgdem_binary(), "analyse", *files] + [x for s in sets for x in ("--set", s)]
+        if per_frame:
+            cmd += ["--csv", table]
+        done = subprocess.run(cmd, capture_output=True, text=True)
+        if done.returncode != 0:
+            sys.exit(f"{' '.join(cmd)} failed: {done.stderr.strip()}")
+        if per_frame:
+            return np.genfromtxt(table, delimiter=",", names=True)
+    return {name: float(value) for name, value in (line.split(" ", 1) for line in done.stdout.splitlines() if " " in line)}
