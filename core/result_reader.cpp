@@ -18,7 +18,7 @@ hsize_t values_in(hid_t loc, const std::string& name) {
   Hid ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose, "open dataset " + name);
   Hid space(H5Dget_space(ds), H5Sclose, "get the dataspace of " + name);
   const hssize_t n = H5Sget_simple_extent_npoints(space);
-  check(n < 0 ? -1 : 0, "size of " + name);
+  if (n < 0) h5::fail("size of " + name);
   return static_cast<hsize_t>(n);
 }
 
@@ -30,7 +30,7 @@ std::vector<T> read_values(hid_t loc, const std::string& name, hid_t mem_type, h
   Hid ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT), H5Dclose, "open dataset " + name);
   Hid space(H5Dget_space(ds), H5Sclose, "get the dataspace of " + name);
   const int rank = H5Sget_simple_extent_ndims(space);
-  check(rank < 1 || rank > 2 ? -1 : 0, "rank of " + name);
+  if (rank < 1 || rank > 2) h5::fail("rank of " + name);
   hsize_t dims[2] = {0, 1};
   H5Sget_simple_extent_dims(space, dims, nullptr);
   const hsize_t per_row = rank == 2 ? dims[1] : 1;
