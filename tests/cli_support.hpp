@@ -54,6 +54,15 @@ protected:
     return r;
   }
   void write(const std::string& name, const std::string& text) { std::ofstream(dir / name) << text; }
+  // Runs `run_args` ("run SCENE ...") whole into full.h5 and in two parts: to `split` seconds with a
+  // checkpoint there (mid.h5, mid.checkpoint.h5), then continued from it to the end (cont.h5). Returns
+  // whether all three exited 0.
+  bool run_whole_and_in_two_parts(const std::string& run_args, const std::string& split) {
+    return cgdem(run_args + " --out full.h5").code == 0 &&
+           cgdem(run_args + " --out mid.h5 --set time.end=" + split + " --checkpoint-every " + split).code ==
+               0 &&
+           cgdem(run_args + " --out cont.h5 --restart mid.checkpoint.h5").code == 0;
+  }
 };
 
 inline std::vector<double> read_doubles(hid_t file, const std::string& path) {

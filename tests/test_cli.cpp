@@ -211,19 +211,19 @@ TEST_F(CliTest, RestartFromCheckpointEqualsUninterruptedRunBitwise) {
 // Analyses that accumulate over outputs (a running peak, a height and an origin measured at the first
 // output) continue from the checkpoint: the restarted run ends with the uninterrupted run's values, also
 // when it restarts between two outputs (that extra frame is kept out of the peak).
-TEST_F(CliTest, RestartContinuesTheAnalysesAccumulations) {
-  write("base.yaml", std::string(drop_scene) + R"(analyses:
+// The drop scene with analyses that accumulate, and its run split at 0.03375 s, between the outputs at
+// 0.0325 s (the impact on the floor) and 0.035 s.
+const char* accumulating_analyses = R"(analyses:
   - {type: unconfined_strength, name: peak, wall: floor, area: 1.0e-4}
   - {type: wall_stress, name: floor_stress, wall: floor, area: 1.0e-4}
   - {type: planar_flow, name: flow, axis: x}
-)");
-  const std::string common = "run base.yaml --quiet --threads 1 --set output.every=0.0025 ";
-  ASSERT_EQ(cgdem(common + "--out full.h5").code, 0);
-  // A checkpoint at 0.03375 s, between the outputs at 0.0325 s (the impact on the floor) and 0.035 s,
-  // then the continuation.
-  ASSERT_EQ(cgdem(common + "--out mid.h5 --set time.end=0.03375 --checkpoint-every 0.03375").code, 0);
-  const Result r = cgdem(common + "--out cont.h5 --restart mid.checkpoint.h5");
-  ASSERT_EQ(r.code, 0) << r.err;
+)";
+const char* accumulating_run = "run base.yaml --quiet --threads 1 --set output.every=0.0025";
+const char* accumulating_split = "0.03375";
+
+TEST_F(CliTest, RestartContinuesTheAnalysesAccumulations) {
+  write("base.yaml", std::string(drop_scene) + accumulating_analyses);
+  ASSERT_TRUE(run_whole_and_in_two_parts(accumulating_run, accumulating_split));
   hid_t a = H5Fopen((dir / "full.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   hid_t b = H5Fopen((dir / "cont.h5").c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   for (const char* v : {"peak", "peak_peak_strain", "floor_stress_strain", "flow", "flow_front"}) {
@@ -244,7 +244,7 @@ TEST_F(CliTest, RestartContinuesTheAnalysesAccumulations) {
       cgdem("run plain.yaml --quiet --threads 1 --out plain.h5 --set time.end=0.01 --checkpoint-every 0.01")
           .code,
       0);
-  const Result bad = cgdem(common + "--out bad.h5 --restart plain.checkpoint.h5");
+  const Result bad = cgdem(std::string(accumulating_run) + " --out bad.h5 --restart plain.checkpoint.h5");
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.err.find("lacks the state of analysis"), std::string::npos) << bad.err;
 }
@@ -254,15 +254,8 @@ TEST_F(CliTest, RestartContinuesTheAnalysesAccumulations) {
 // frame at the restart kept out of the peak, as the run keeps it). With other parameters it gives what
 // they give, and a misspelt one is refused like the run refuses it.
 TEST_F(CliTest, AnalyseRecomputesTheRunsAnalysesFromItsFrames) {
-  write("base.yaml", std::string(drop_scene) + R"(analyses:
-  - {type: unconfined_strength, name: peak, wall: floor, area: 1.0e-4}
-  - {type: wall_stress, name: floor_stress, wall: floor, area: 1.0e-4}
-  - {type: planar_flow, name: flow, axis: x}
-)");
-  const std::string common = "run base.yaml --quiet --threads 1 --set output.every=0.0025 ";
-  ASSERT_EQ(cgdem(common + "--out full.h5").code, 0);
-  ASSERT_EQ(cgdem(common + "--out mid.h5 --set time.end=0.03375 --checkpoint-every 0.03375").code, 0);
-  ASSERT_EQ(cgdem(common + "--out cont.h5 --restart mid.checkpoint.h5").code, 0);
+  write("base.yaml", std::string(drop_scene) + accumulating_analyses);
+  ASSERT_TRUE(run_whole_and_in_two_parts(accumulating_run, accumulating_split));
   // "name value" lines, the values printed to the last digit.
   auto outputs = [](const std::string& text) {
     std::map<std::string, double> v;
