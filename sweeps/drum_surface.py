@@ -44,13 +44,11 @@ def drum_of(scene_path):
     return np.array(wall["point"], float), axis, up, float(wall["radius"]), float(wall.get("length", 0)), bool(wall.get("caps", False))
 
 
-def layer_per_carried_fraction(first_file, drum):
+def layer_per_carried_fraction(rad, drum):
     """The factor that turns the carried mass fraction into a layer on the wall above the axis (the upper
     half of the shell and of the caps), in particle diameters: the same for two sizes when each keeps the
     same number of particle layers on the wall."""
     _, _, _, radius, length, caps = drum
-    with h5py.File(first_file, "r") as f:
-        rad = f["frames"][sorted(f["frames"])[0]]["radius"][:]
     area = math.pi * radius * length + (math.pi * radius**2 if caps else 0.0)
     volume = (4.0 / 3.0 * math.pi * rad**3).sum()
     return volume / area / (2 * rad.max()) if area > 0 else float("nan")
@@ -61,14 +59,14 @@ def run_series(rundir, drum, cell_factor=4.0, wall_layer=1.5, bed_fraction=0.2, 
     `cgdem analyse` over its pieces with its own first drum_angle analysis and these parameters."""
     files = run_pieces(rundir)
     with h5py.File(files[0], "r") as f:
-        rmax = f["frames"][sorted(f["frames"])[0]]["radius"][:].max()
+        rad = f["frames"][sorted(f["frames"])[0]]["radius"][:]
     index, spec = analysis_of(stored_scene(files[0]), "drum_angle")
     name = spec.get("name", "drum_angle")
     rows = analyse(files, [f"analyses.{index}.{key}={value!r}" for key, value in
-                           (("cell_width", float(cell_factor * rmax)), ("wall_layer", wall_layer),
+                           (("cell_width", float(cell_factor * rad.max())), ("wall_layer", wall_layer),
                             ("bed_fraction", bed_fraction), ("fit_fraction", fit_fraction))])
     carried = rows[name + "_carried"]
-    return np.round(rows["time"], 9), rows[name], carried, carried * layer_per_carried_fraction(files[0], drum)
+    return np.round(rows["time"], 9), rows[name], carried, carried * layer_per_carried_fraction(rad, drum)
 
 
 def frame_at(rundir, t_at):
