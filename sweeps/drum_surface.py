@@ -132,14 +132,17 @@ def main():
     for r in runs:
         laws.setdefault(law_of(r), []).append(per_run[r])
     reference = laws.get("reference", [(float("nan"), float("nan"))])  # nan errors until a reference is done
-    ref_angle, ref_carried = summary([x[0] for x in reference])[0], summary([x[1] for x in reference])[0]
-    print("law, seeds, angle mean over seeds (deg), seed sd, error, scatter (sd / reference), "
-          "carried mean, seed sd, error")
+    (ref_angle, ref_sd), ref_carried = summary([x[0] for x in reference]), summary([x[1] for x in reference])[0]
+    ref_sd = ref_sd if len(reference) > 1 and np.isfinite(ref_sd) else 0.0  # one original: its scatter unknown
+    print("law, seeds, angle mean over seeds (deg), seed sd, error, scatter (sqrt(sd^2 + reference sd^2) / "
+          "reference), within, carried mean, seed sd, error")
     for law, vals in laws.items():
         am, asd = summary([x[0] for x in vals])
         cm, csd = summary([x[1] for x in vals])
-        print(f"{law}, {len(vals)}, {am:.2f}, {asd:.2f}, {100 * (am - ref_angle) / ref_angle:+.1f} %, "
-              f"{100 * asd / ref_angle:.1f} %, {cm:.3f}, {csd:.3f}, {100 * (cm - ref_carried) / ref_carried:+.0f} %")
+        error, scatter = (am - ref_angle) / ref_angle, np.hypot(asd, ref_sd) / ref_angle
+        print(f"{law}, {len(vals)}, {am:.2f}, {asd:.2f}, {100 * error:+.1f} %, {100 * scatter:.1f} %, "
+              f"{'yes' if abs(error) <= scatter else 'no'}, {cm:.3f}, {csd:.3f}, "
+              f"{100 * (cm - ref_carried) / ref_carried:+.0f} %")
     if a.csv:
         with open(a.csv, "w") as out:
             out.write("run,time,angle_deg,mass_fraction_above_axis,layer_above_axis_diameters\n")
