@@ -21,8 +21,12 @@ namespace cgdem::kernels {
 
 // Visits the partners j > i of particle i in deterministic order (the 27 stencil cells in fixed order, a
 // cell's particles in sorted order): f(j, dist2) for each partner inside R_i + R_j + extra_cutoff, with
-// their squared separation as the force pass computes it. A functor, not a generic lambda: CUDA's device
-// lambdas cannot be generic.
+// their squared separation as the force pass computes it; candidates(i, g) calls g(j, dist2, inside) for
+// every candidate j > i of the stencil, so that a caller can count without a branch per candidate. A
+// functor, not a generic lambda: CUDA's device lambdas cannot be generic.
+// `sorted`: the store is in the bins' order (order(k) == k, as after each spatial reorder), so a cell
+// before i's own holds no partner and is passed without reading its bounds, and a cell's particles are
+// the indices from its start, read without the indirection. The same candidates in the same order.
 template <class PositionView, class RadiusView>
 struct PartnerVisitor {
   Domain domain;
@@ -32,9 +36,17 @@ struct PartnerVisitor {
   Kokkos::View<const int*, typename PositionView::memory_space> cell_of, start, order;
   Real extra_cutoff;
   Real max_radius; // of any particle: bounds the cut-off of i's pairs, to skip cells beyond it
+  bool sorted;
 
   template <class F>
   KOKKOS_INLINE_FUNCTION void operator()(int i, F&& f) const {
+    candidates(i, [&](int j, Real dist2, bool inside) {
+      if (inside) f(j, dist2);
+    });
+  }
+
+  template <class G>
+  KOKKOS_INLINE_FUNCTION void candidates(int i, G&& g) const {
     const Vec3 xi = load3(position, i);
     const Real ri = radius(i);
     const int c = cell_of(i);
@@ -77,16 +89,25 @@ struct PartnerVisitor {
             x = (x + grid.dims[0]) % grid.dims[0];
           }
           const int cell = x + grid.dims[0] * (y + grid.dims[1] * z);
+          const auto test = [&](int j) {
+            const Vec3 d = domain.minimum_image(load3(position, j) - xi);
+            const Real cut = ri + radius(j) + extra_cutoff, dist2 = norm2(d);
+            g(j, dist2, dist2 < cut * cut);
+          };
+          if (sorted) {
+            if (cell < c) continue;
+            const int last = start(cell + 1);
+            for (int j = cell == c ? i + 1 : start(cell); j < last; ++j)
+              test(j);
+            continue;
+          }
           // A cell's particles are in index order: a cell whose last is not above i holds no partner of
           // i (in a store sorted by cell, the half of the stencil before i's own cell).
           const int first = start(cell), last = start(cell + 1);
           if (first == last || order(last - 1) <= i) continue;
           for (int k = first; k < last; ++k) {
             const int j = order(k);
-            if (j <= i) continue;
-            const Vec3 d = domain.minimum_image(load3(position, j) - xi);
-            const Real cut = ri + radius(j) + extra_cutoff, dist2 = norm2(d);
-            if (dist2 < cut * cut) f(j, dist2);
+            if (j > i) test(j);
           }
         }
       }
@@ -157,8 +178,12 @@ struct NeighborList {
     const auto offs = offsets;
 
     // Visit the partners j > i of particle i in deterministic order (PartnerVisitor).
-    const PartnerVisitor<PositionView, RadiusView> visit{domain, grid,  position,     radius,    cell_of,
-                                                         start,  order, extra_cutoff, max_radius};
+    int unsorted = 0;
+    Kokkos::parallel_reduce(
+        "cgdem::kernels::nl_sorted", Kokkos::RangePolicy<ExecSpace>(0, n),
+        KOKKOS_LAMBDA(int k, int& count) { count += order(k) != k ? 1 : 0; }, unsorted);
+    const PartnerVisitor<PositionView, RadiusView> visit{
+        domain, grid, position, radius, cell_of, start, order, extra_cutoff, max_radius, unsorted == 0};
 
     // The stencil is walked once: the count pass keeps each particle's first kFound partners, and the fill
     // pass takes them from there (their separations recomputed, the same bits as the visit's); only a
@@ -168,12 +193,16 @@ struct NeighborList {
     const auto found_j = found;
     Kokkos::parallel_for(
         "cgdem::kernels::nl_count", Kokkos::RangePolicy<ExecSpace>(0, n), KOKKOS_LAMBDA(int i) {
-          int cnt = 0;
-          int* mine = found_j.data() + std::size_t(i) * kFound;
-          visit(i, [&](int j, Real) {
-            if (cnt < kFound) mine[cnt] = j;
-            ++cnt;
+          // Every candidate is written to the next free place and kept only if inside: no branch on the
+          // distance test (a coin toss per candidate in a dense bed). Place kFound takes the overflow.
+          int cnt = 0, kept[kFound + 1];
+          visit.candidates(i, [&](int j, Real, bool inside) {
+            kept[cnt < kFound ? cnt : kFound] = j;
+            cnt += inside ? 1 : 0;
           });
+          int* mine = found_j.data() + std::size_t(i) * kFound;
+          for (int k = 0; k < kFound && k < cnt; ++k)
+            mine[k] = kept[k];
           offs(i + 1) = cnt;
         });
     const int total = counts_to_offsets(offs, n, "cgdem::kernels::nl_scan");
