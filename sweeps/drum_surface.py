@@ -29,7 +29,7 @@ try:
     import yaml
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"drum_surface.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, -numpy, -yaml)")
-from run_pieces import analyse, analysis_of, run_pieces, stored_scene
+from run_pieces import analyse, analysis_of, combined_scatter, run_pieces, stored_scene
 
 
 def drum_of(scene_path):
@@ -133,13 +133,12 @@ def main():
         laws.setdefault(law_of(r), []).append(per_run[r])
     reference = laws.get("reference", [(float("nan"), float("nan"))])  # nan errors until a reference is done
     (ref_angle, ref_sd), ref_carried = summary([x[0] for x in reference]), summary([x[1] for x in reference])[0]
-    ref_sd = ref_sd if len(reference) > 1 and np.isfinite(ref_sd) else 0.0  # one original: its scatter unknown
     print("law, seeds, angle mean over seeds (deg), seed sd, error, scatter (sqrt(sd^2 + reference sd^2) / "
           "reference), within, carried mean, seed sd, error")
     for law, vals in laws.items():
         am, asd = summary([x[0] for x in vals])
         cm, csd = summary([x[1] for x in vals])
-        error, scatter = (am - ref_angle) / ref_angle, np.hypot(asd, ref_sd) / ref_angle
+        error, scatter = (am - ref_angle) / ref_angle, combined_scatter(asd, ref_sd, ref_angle)
         print(f"{law}, {len(vals)}, {am:.2f}, {asd:.2f}, {100 * error:+.1f} %, {100 * scatter:.1f} %, "
               f"{'yes' if abs(error) <= scatter else 'no'}, {cm:.3f}, {csd:.3f}, "
               f"{100 * (cm - ref_carried) / ref_carried:+.0f} %")

@@ -19,7 +19,6 @@ each (method, l)'s stress at the last strain against OTHER's, with both seed sca
 """
 import argparse
 import glob
-import math
 import os
 import sys
 
@@ -32,7 +31,7 @@ try:
     import matplotlib.pyplot as plt
 except ImportError as e:  # the interpreter first on PATH may lack them; Debian's /usr/bin/python3 has them
     sys.exit(f"hu_compression_table.py: {e}; run it with /usr/bin/python3 (Debian's python3-h5py, python3-matplotlib)")
-from run_pieces import read_record, run_pieces
+from run_pieces import combined_scatter, read_record, run_pieces
 
 NAMES = {"none": "original", "hu_method1": "Method 1", "hu_method2": "Method 2", "hu_method3": "Method 3"}
 
@@ -167,7 +166,7 @@ def main():
             if ref and key != ("none", 1) and ref["have"][i]:
                 err = s["mean"][i] / ref["mean"][i] - 1
                 sd_r = ref["sd"][i] if ref["have"][i] > 1 else 0.0
-                scatter = math.sqrt(np.nan_to_num(s["sd"][i]) ** 2 + sd_r**2) / ref["mean"][i]
+                scatter = combined_scatter(s["sd"][i], sd_r, ref["mean"][i])
                 within = "yes" if abs(err) <= scatter else "no"
                 row += [f"{100 * err:+.1f} %", f"{100 * scatter:.1f} %", within]
             else:
@@ -178,7 +177,7 @@ def main():
                 row += ["", "", ""]
             else:
                 change = s["mean"][-1] / o["mean"][0] - 1
-                scatter = math.sqrt(np.nan_to_num(s["sd"][-1]) ** 2 + np.nan_to_num(o["sd"][0]) ** 2) / o["mean"][0]
+                scatter = combined_scatter(s["sd"][-1], o["sd"][0], o["mean"][0])
                 row += [f"{o['mean'][0]:.4g} +- {o['sd'][0]:.2g}", f"{100 * change:+.1f} %", f"{100 * scatter:.1f} %"]
         rows.append(row)
     with open(os.path.join(a.out, "table.csv"), "w") as f:

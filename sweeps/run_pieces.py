@@ -5,6 +5,7 @@ last piece's run.h5 (docs/sweeps.md, "Runs longer than a sitting"); a two-stage 
 --first-stage) begins with first_stage.h5. A piece starts at its checkpoint, so consecutive pieces may
 hold the same frame time: readers keep one.
 """
+import math
 import os
 import re
 
@@ -38,6 +39,13 @@ def record_value(path, name):
             if len(parts) == 3 and parts[0] == "value" and parts[1] == name:
                 return float(parts[2])
     raise KeyError(f"{path}: no value {name}")
+
+
+def combined_scatter(sd, ref_sd, ref_mean):
+    """The seed-to-seed scatter an error is judged against: sqrt(sd^2 + ref_sd^2) / ref_mean, the two sets'
+    standard deviations combined (a set of one seed, sd NaN, adds nothing). "Within" means |error| <= it."""
+    nan_to_zero = lambda v: 0.0 if v != v else v
+    return math.hypot(nan_to_zero(sd), nan_to_zero(ref_sd)) / ref_mean
 
 
 def cgdem_binary():

@@ -3,18 +3,17 @@
 from its records: per law, the seeds, the CPU speed-up against the originals' mean CPU time, the peak
 confined stress (`consolidation`), the unconfined strength (`ucs`, the peak of the reload) and the stress at
 the run's end (`stress`), each as mean +- seed sd, with the error against the originals' mean and the
-scatter sqrt(sd^2 + sd_orig^2) / orig mean (the same as sweeps/hu_compression_table.py), and whether the
+scatter sqrt(sd^2 + sd_orig^2) / orig mean (run_pieces.combined_scatter), and whether the
 error lies within it. Stresses in kPa. Prints a Markdown table.
 
     /usr/bin/python3 sweeps/strength_table.py sweeps/results/thakur_depth_case2
 """
 import argparse
-import math
 import os
 import re
 import statistics
 
-from run_pieces import read_record, record_value
+from run_pieces import combined_scatter, read_record, record_value
 
 METRICS = [("consolidation", "peak confined stress"), ("ucs", "unconfined strength"),
            ("stress", "stress at the run's end")]
@@ -60,7 +59,7 @@ def main():
                 cells.append("-")
                 continue
             error = (mean - ref_mean) / ref_mean
-            scatter = math.hypot(sd if sd == sd else 0, ref_sd if ref_sd == ref_sd else 0) / ref_mean
+            scatter = combined_scatter(sd, ref_sd, ref_mean)
             verdict = "within" if abs(error) <= scatter else "beyond"
             cells.append(f"{100 * error:+.1f} % ({100 * scatter:.1f} %) {verdict}")
         print("| " + " | ".join(cells) + " |")
